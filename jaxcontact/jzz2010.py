@@ -1,0 +1,64 @@
+"""The classical comparator: Jiang, Zheng & Zhu (J. Tribology 132, 011401, 2010), MODEL.md §5.
+
+Majumdar–Bhushan ordering: spots larger than `a_c` are elastic (Eq. 5, Hertz stiffness
+`k = 2E sqrt(a/π)`), smaller ones fully plastic (`H a`, no stiffness). No lower cutoff: the
+plastic integrand `a^(-D/2)` is integrable at 0. Every total is a closed form.
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from .asperity import regime_load_laws
+from .dimensionless import DimensionlessScene
+from .distribution import size_distribution
+from .joint import AbstractJoint, JointResponse
+from .powerlaw import PowerLaw
+
+# Hertz contact stiffness of one spot, k = 2 E sqrt(a/π), in units of E sqrt(A_a).
+_HERTZ_STIFFNESS = PowerLaw(jnp.asarray(math.log(2.0) - 0.5 * math.log(math.pi)), jnp.asarray(0.5))
+
+
+class JZZ2010Joint(AbstractJoint):
+    """The JZZ model; the regime slots are (elastic, 0, 0, plastic)."""
+
+    D: Float[Array, ""]
+    log_a_min: Float[Array, ""]
+    log_a_c: Float[Array, ""]
+    log_hardness: Float[Array, ""]
+    log_density: Float[Array, ""]
+    elastic_law: PowerLaw
+
+    @classmethod
+    def from_dimensionless(cls, s: DimensionlessScene):
+        laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        return cls(D=s.D, log_a_min=s.log_a_min, log_a_c=s.log_a_c, log_hardness=s.log_hardness,
+                   log_density=s.log_density, elastic_law=PowerLaw(laws.log_coeff[0], laws.exponent[0]))
+
+    def _log_plastic_prefactor(self, log_a_l):
+        # ∫_0^x H a n(a) da = H ψ D/(2-D) a_l^(D/2) x^((2-D)/2)
+        return self.log_density + jnp.log(self.D / (2.0 - self.D)) + self.D / 2.0 * log_a_l
+
+    def _elastic_range(self, log_a_l):
+        return self.log_a_c, jnp.maximum(log_a_l, self.log_a_c)
+
+    def regime_load(self, log_a_l):
+        n = size_distribution(self.D, log_a_l, self.log_density)
+        elastic = (self.elastic_law * n).integral(*self._elastic_range(log_a_l))
+        plastic = jnp.exp(self.log_hardness + self._log_plastic_prefactor(log_a_l)
+                          + (2.0 - self.D) / 2.0 * jnp.minimum(self.log_a_c, log_a_l))
+        zero = jnp.zeros_like(elastic)
+        return jnp.stack([elastic, zero, zero, plastic])
+
+    def response(self, log_a_l, log_load):
+        del log_load  # no interaction in this model
+        n = size_distribution(self.D, log_a_l, self.log_density)
+        elastic = (_HERTZ_STIFFNESS * n).integral(*self._elastic_range(log_a_l))
+        zero = jnp.zeros_like(elastic)
+        stiffness = jnp.stack([elastic, zero, zero, zero])
+        real_area = jnp.exp(self._log_plastic_prefactor(log_a_l) + (2.0 - self.D) / 2.0 * log_a_l)
+        return JointResponse(self.regime_load(log_a_l), stiffness, real_area, jnp.array(False))

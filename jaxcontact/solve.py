@@ -1,0 +1,139 @@
+"""Load control (Sec. 4, MODEL.md §4): solve `F_t(a_l) = F` for the largest spot, then evaluate.
+
+The solve runs in `ln a_l*` on the bracket `[ln a_min*, 0]` (the largest spot lies between the
+smallest fractal asperity and the nominal area) with a safeguarded Newton method, and is
+differentiated by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`.
+
+Failed points never raise and never poison a batch: each is solved at a harmless stand-in
+load, its outputs are replaced by NaN and it is given a non-zero `status`, so the values and
+gradients of the other points are exactly what they would be alone.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import ArrayLike, Float
+
+from ._validate import concrete
+from .dimensionless import nondimensionalise
+from .joint import AbstractJoint, Xia2024Joint
+from .jzz2010 import JZZ2010Joint
+from .scene import Scene
+from .solution import Solution
+from .solver import solve_increasing
+from .status import Status
+
+
+def make_joint(scene: Scene) -> AbstractJoint:
+    """The dimensionless joint model that `scene` asks for."""
+    s = nondimensionalise(scene)
+    if scene.model == "xia2024":
+        return Xia2024Joint.from_dimensionless(s, scene.interaction, scene.quadrature_nodes)
+    return JZZ2010Joint.from_dimensionless(s)
+
+
+def _load_residual(log_a_l, args):
+    joint, log_load = args
+    return jnp.log(joint.total_load(log_a_l)) - log_load
+
+
+def _check_loads(loads) -> None:
+    values = concrete(loads)
+    if values is None:
+        return
+    bad = ~(np.isfinite(values) & (values > 0))
+    if np.any(bad):
+        where = np.argwhere(bad)[0]
+        index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
+        raise ValueError(f"loads{index} = {values[tuple(where)]!r} N is not a valid load: "
+                         "loads must be finite and > 0 (valid range (0, inf) N)")
+
+
+def _working_dtype(scene: Scene, loads):
+    leaves = [x for x in jax.tree.leaves((scene, loads)) if eqx.is_array_like(x)]
+    return jnp.result_type(float, *[x for x in leaves if not isinstance(x, float)])
+
+
+@eqx.filter_jit
+def _solve(scene: Scene, loads):
+    joint = make_joint(scene)
+    dtype = loads.dtype
+    tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
+    E, area = scene.material.E, scene.area
+    load_star = loads / (E * area)
+
+    # Per-scene quantities, computed once for all loads.
+    lower, upper = joint.log_a_min, jnp.zeros_like(joint.log_a_min)
+    middle = 0.5 * (lower + upper)
+    log_load_lowest = jnp.log(joint.total_load(lower))  # -inf for xia2024: any F > 0 is reachable
+    log_load_middle = jnp.log(joint.total_load(middle))
+    log_load_highest = jnp.log(joint.total_load(upper))
+    secant_slope = (upper - middle) / (log_load_highest - log_load_middle)
+
+    def one_point(F_star):
+        valid = jnp.isfinite(F_star) & (F_star > 0)
+        log_load = jnp.log(jnp.where(valid, F_star, 1.0))
+        in_range = (log_load > log_load_lowest) & (log_load <= log_load_highest)
+        usable = valid & in_range
+        log_load = jnp.where(usable, log_load, log_load_middle)
+        guess = jnp.clip(middle + (log_load - log_load_middle) * secant_slope, lower + 1e-3 * (upper - lower), upper)
+        log_a_l, converged = solve_increasing(_load_residual, guess, (joint, log_load), lower, upper,
+                                              tolerance=tolerance, max_steps=scene.max_steps)
+        response = joint.response(log_a_l, log_load)
+        status = jnp.select(
+            [~valid, ~in_range, ~converged, response.breakdown],
+            [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED, Status.INTERACTION_BREAKDOWN],
+            Status.OK,
+        ).astype(jnp.int32)
+        return log_a_l, response, status
+
+    log_a_l, response, status = jax.vmap(one_point)(load_star.reshape(-1))
+    shape = loads.shape
+    nan = jnp.array(jnp.nan, dtype)
+    solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
+    ok = status == Status.OK
+    load_total = jnp.sum(response.regime_load, axis=-1)
+    stiffness_total = jnp.sum(response.regime_stiffness, axis=-1)
+    stiffness_share = response.regime_stiffness / jnp.where(stiffness_total > 0, stiffness_total, 1.0)[:, None]
+    a_l_star = jnp.where(solved, jnp.exp(log_a_l), nan)
+    stiffness_star = jnp.where(ok, stiffness_total, nan)
+    real_area_star = jnp.where(solved, response.real_area, nan)
+    return Solution(
+        load=loads,
+        a_l=(a_l_star * area).reshape(shape),
+        stiffness=(stiffness_star * E * jnp.sqrt(area)).reshape(shape),
+        real_area=(real_area_star * area).reshape(shape),
+        status=status.reshape(shape),
+        load_share=jnp.where(solved[:, None], response.regime_load / load_total[:, None], nan).reshape(shape + (4,)),
+        stiffness_share=jnp.where(ok[:, None], stiffness_share, nan).reshape(shape + (4,)),
+        load_star=load_star,
+        stiffness_star=stiffness_star.reshape(shape),
+        real_area_star=real_area_star.reshape(shape),
+    )
+
+
+def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
+    """Normal contact stiffness of the joint at each load (MODEL.md §4, Eqs. 30–39).
+
+    **Arguments:**
+
+    - `scene`: the joint and the model choices (`jaxcontact.Scene`).
+    - `loads`: total normal load F in newtons, a scalar or an array of any shape.
+
+    **Returns:** a `Solution` with one entry per load. Points that cannot be computed (load out of
+    range, interaction breakdown, unconverged solve, a traced non-positive load) carry a non-zero
+    `status` and NaN values; the rest of the batch is unaffected.
+
+    Works under `jax.jit`, `jax.vmap` (over loads, or over scenes whose float fields are
+    batched arrays) and `jax.grad`/`jax.jvp` with respect to every float field of the scene and
+    the loads. Runs in float64 when `jax_enable_x64` is on and in float32 otherwise.
+
+    **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
+    """
+    _check_loads(loads)
+    dtype = _working_dtype(scene, loads)
+    scene = jax.tree.map(lambda x: jnp.asarray(x, dtype), scene)
+    return _solve(scene, jnp.asarray(loads, dtype))

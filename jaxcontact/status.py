@@ -1,0 +1,34 @@
+"""Per-point status codes of `Solution.status` (0 means the point is valid)."""
+
+from __future__ import annotations
+
+import enum
+
+
+class Status(enum.IntEnum):
+    """Why a load point has no valid result.
+
+    - `OK`: valid.
+    - `LOAD_OUT_OF_RANGE`: the load needs a largest spot beyond the nominal area (a_l > A_a), or
+      (model "jzz2010") below the smallest fractal asperity (a_l < l_min²).
+    - `INTERACTION_BREAKDOWN`: interaction "paper", and ω'(a) = ξ' - σ' vanishes inside the
+      stiffness range (MODEL.md §3): the model is not valid there. `a_l` and the load split are
+      still reported; the stiffness is NaN.
+    - `NOT_CONVERGED`: the a_l solve ran out of steps (`Scene.max_steps`).
+    - `INVALID_LOAD`: the load is not a positive finite number (only possible for traced loads;
+      concrete ones raise `ValueError`).
+    """
+
+    OK = 0
+    LOAD_OUT_OF_RANGE = 1
+    INTERACTION_BREAKDOWN = 2
+    NOT_CONVERGED = 3
+    INVALID_LOAD = 4
+
+
+def status_message(code: int) -> str:
+    """A short name for a status code, e.g. for tables: "ok", "interaction_breakdown", ..."""
+    try:
+        return Status(int(code)).name.lower()
+    except ValueError:
+        return f"unknown_status_{int(code)}"
