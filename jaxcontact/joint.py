@@ -28,8 +28,9 @@ from .interaction import INTERACTION_SIGNS, breakdown_log_area, interaction_rati
 from .powerlaw import PowerLaw
 from .quadrature import integrate_log_area
 
-# Fully plastic asperities carry load but add no stiffness (Sec. 4.2).
-_HAS_STIFFNESS = jnp.array([1.0, 1.0, 1.0, 0.0])
+# Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
+# not jnp arrays: a module-level array would freeze the precision that was active at import.
+_HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
 
 
 class JointResponse(eqx.Module):
@@ -105,13 +106,14 @@ class Xia2024Joint(AbstractJoint):
     def regime_stiffness(self, log_a_l, log_load):
         """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag."""
         lower, upper = self.intervals(log_a_l)
+        has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
         integrand = stiffness_without_interaction(self.load_laws, self.interference_law) * self.distribution(log_a_l)
-        closed_form = integrand.integral(lower, upper) * _HAS_STIFFNESS
+        closed_form = integrand.integral(lower, upper) * has_stiffness
         sign = INTERACTION_SIGNS[self.interaction]
         if sign == 0.0:
             return closed_form, jnp.array(False)
         ratio = interaction_ratio(self.load_laws, self.interference_law, log_load)
-        nonempty = (upper > lower) & (_HAS_STIFFNESS > 0)
+        nonempty = (upper > lower) & (has_stiffness > 0)
         if sign < 0:
             breakdown = jnp.any(nonempty & (breakdown_log_area(ratio) <= upper))
         else:
@@ -125,7 +127,7 @@ class Xia2024Joint(AbstractJoint):
             sr = sign * r(t)
             return density(t) * jnp.exp(t) * (-sr / (1.0 + sr))
 
-        return closed_form + integrate_log_area(correction, lower, upper, self.quadrature_nodes) * _HAS_STIFFNESS, breakdown
+        return closed_form + integrate_log_area(correction, lower, upper, self.quadrature_nodes) * has_stiffness, breakdown
 
     def real_area(self, log_a_l):
         """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""

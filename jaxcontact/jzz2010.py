@@ -19,8 +19,11 @@ from .distribution import size_distribution
 from .joint import AbstractJoint, JointResponse
 from .powerlaw import PowerLaw
 
-# Hertz contact stiffness of one spot, k = 2 E sqrt(a/π), in units of E sqrt(A_a).
-_HERTZ_STIFFNESS = PowerLaw(jnp.asarray(math.log(2.0) - 0.5 * math.log(math.pi)), jnp.asarray(0.5))
+
+
+def hertz_stiffness(like) -> PowerLaw:
+    """Hertz contact stiffness of one spot, `k = 2 E sqrt(a/π)`, in units of `E sqrt(A_a)`."""
+    return PowerLaw(jnp.full_like(like, math.log(2.0) - 0.5 * math.log(math.pi)), jnp.full_like(like, 0.5))
 
 
 class JZZ2010Joint(AbstractJoint):
@@ -57,7 +60,7 @@ class JZZ2010Joint(AbstractJoint):
     def response(self, log_a_l, log_load):
         del log_load  # no interaction in this model
         n = size_distribution(self.D, log_a_l, self.log_density)
-        elastic = (_HERTZ_STIFFNESS * n).integral(*self._elastic_range(log_a_l))
+        elastic = (hertz_stiffness(self.D) * n).integral(*self._elastic_range(log_a_l))
         zero = jnp.zeros_like(elastic)
         stiffness = jnp.stack([elastic, zero, zero, zero])
         real_area = jnp.exp(self._log_plastic_prefactor(log_a_l) + (2.0 - self.D) / 2.0 * log_a_l)

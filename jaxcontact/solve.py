@@ -53,8 +53,9 @@ def _check_loads(loads) -> None:
 
 
 def _working_dtype(scene: Scene, loads):
+    # A weak Python float: float32 unless x64 is on or an input is already float64.
     leaves = [x for x in jax.tree.leaves((scene, loads)) if eqx.is_array_like(x)]
-    return jnp.result_type(float, *[x for x in leaves if not isinstance(x, float)])
+    return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
 
 
 @eqx.filter_jit

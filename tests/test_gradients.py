@@ -1,0 +1,88 @@
+"""Gradients (implicit-function-theorem a_l solve) against central finite differences.
+
+The loads are chosen so that a_l sits inside each regime and 0.1 % either side of each regime
+boundary (a_c, 7.12 a_c, 205.4 a_c), where the per-asperity load law is discontinuous.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact.asperity import EP1_END, EP2_END
+
+PARAMS = ("D", "G", "E", "H", "l_min", "nu", "area")
+GETTERS = {
+    "D": lambda s: s.surface.D, "G": lambda s: s.surface.G, "l_min": lambda s: s.surface.l_min,
+    "E": lambda s: s.material.E, "H": lambda s: s.material.H, "nu": lambda s: s.material.nu,
+    "area": lambda s: s.area,
+}
+
+
+def loads_for_spots(scene, spots_over_a_c):
+    """Loads (N) at which the largest spot is a_l = factor · a_c, via the closed-form F_t."""
+    joint = jc.make_joint(scene)
+    area, E = scene.area, scene.material.E
+    log_a_c = float(joint.edges[1]) if isinstance(joint, jc.Xia2024Joint) else float(joint.log_a_c)
+    log_a_l = jnp.log(jnp.asarray(spots_over_a_c)) + log_a_c
+    return jax.vmap(joint.total_load)(log_a_l) * E * area, jnp.exp(log_a_l) * area
+
+
+def with_params(scene, values):
+    for name, v in zip(PARAMS, values):
+        scene = eqx.tree_at(GETTERS[name], scene, v)
+    return scene
+
+
+def check_gradients(scene, factors, rtol=1e-5):
+    loads, a_l = loads_for_spots(scene, factors)
+    theta0 = jnp.array([float(GETTERS[p](scene)) for p in PARAMS])
+
+    @jax.jit
+    def stiffness(theta, loads):
+        return jc.solve(with_params(scene, theta), loads).stiffness
+
+    base = stiffness(theta0, loads)
+    assert np.all(np.isfinite(base))
+    np.testing.assert_allclose(jc.solve(scene, loads).a_l, a_l, rtol=1e-9)  # the loads do hit the targets
+    jac = jax.jacfwd(stiffness)(theta0, loads)
+    for j, name in enumerate(PARAMS):
+        h = 1e-6 * theta0[j]
+        e = jnp.zeros_like(theta0).at[j].set(h)
+        fd = (stiffness(theta0 + e, loads) - stiffness(theta0 - e, loads)) / (2 * h)
+        assert_elasticity_close(jac[:, j], fd, theta0[j], base, rtol, f"dK/d{name}")
+    # Load: K_i depends on F_i only, so a jvp with a tangent of ones gives every dK_i/dF_i.
+    _, dK_dF = jax.jvp(lambda F: stiffness(theta0, F), (loads,), (jnp.ones_like(loads),))
+    h = 1e-6 * loads
+    fd = (stiffness(theta0, loads + h) - stiffness(theta0, loads - h)) / (2 * h)
+    assert_elasticity_close(dK_dF, fd, loads, base, rtol, "dK/dF")
+
+
+def assert_elasticity_close(grad, fd, theta, value, rtol, what):
+    """Compare the elasticities θ/K dK/dθ: to `rtol` relatively, or absolutely to 1e-8 where
+    K hardly depends on θ (at fixed load K is nearly independent of the nominal area: there a
+    central difference measures nothing but round-off)."""
+    scale = np.where(np.asarray(value) != 0, value, 1.0)  # K = 0 exactly: all spots plastic (JZZ)
+    exact, approx = np.asarray(grad * theta / scale), np.asarray(fd * theta / scale)
+    np.testing.assert_allclose(exact, approx, rtol=rtol, atol=1e-8, err_msg=what)
+    assert np.all(np.isfinite(exact)), what
+
+
+BOUNDARY_FACTORS = [0.05, 0.999, 1.001, 3.0, EP1_END * 0.999, EP1_END * 1.001, 40.0,
+                    EP2_END * 0.999, EP2_END * 1.001, 1e4]
+
+
+@pytest.mark.parametrize("interaction", ["paper", "series", "none"])
+def test_xia2024_gradients_in_every_regime_and_across_boundaries(interaction):
+    check_gradients(make_scene(**TABLE1, interaction=interaction), BOUNDARY_FACTORS)
+
+
+def test_xia2024_wk_gradients():
+    check_gradients(make_scene(**TABLE1, distribution="wk"), [0.05, 1.001, 40.0, 1e4])
+
+
+def test_jzz2010_gradients_either_side_of_a_c():
+    check_gradients(make_scene(**TABLE1, model="jzz2010"), [0.3, 0.999, 1.001, 50.0, 1e4])

@@ -1,0 +1,156 @@
+"""Numerically hard corners of the model stay finite, continuous and correctly flagged."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact.scipy_baseline import BaselineParameters, solve_point
+
+E, AREA = TABLE1["E"], TABLE1["area"]
+
+
+def stiffness_at_D(scene, loads):
+    @jax.jit
+    def f(D):
+        return jc.solve(eqx.tree_at(lambda s: s.surface.D, scene, D), loads).stiffness
+    return f
+
+
+@pytest.mark.parametrize("model", ["xia2024", "jzz2010"])
+def test_D_equal_to_one_and_a_half_is_continuous(model):
+    """At D = 1.5 the elastic load integrand is a^-1 exactly: the log limit of the closed form."""
+    scene = make_scene(**TABLE1, model=model)
+    loads = jnp.array([2.2, 220.0])
+    f = stiffness_at_D(scene, loads)
+    grad = jax.jit(jax.jacfwd(f))
+    values = {d: np.asarray(f(jnp.asarray(d))) for d in (1.5 - 1e-10, 1.5, 1.5 + 1e-10)}
+    grads = {d: np.asarray(grad(jnp.asarray(d))) for d in values}
+    assert all(np.all(np.isfinite(v)) for v in values.values())
+    assert all(np.all(np.isfinite(g)) for g in grads.values())
+    # Values move by the gradient times 1e-10 (the step is far below any structure), no jump.
+    for d in (1.5 - 1e-10, 1.5 + 1e-10):
+        np.testing.assert_allclose(values[d], values[1.5] + grads[1.5] * (d - 1.5), rtol=1e-12)
+        np.testing.assert_allclose(grads[d], grads[1.5], rtol=1e-6)
+    # ... and the value at exactly 1.5 agrees with the independent scipy implementation.
+    p = BaselineParameters(1.5, TABLE1["G"], E, TABLE1["nu"], TABLE1["H"], AREA, TABLE1["l_min"], model=model)
+    for i, F in enumerate(np.asarray(loads)):
+        np.testing.assert_allclose(values[1.5][i], solve_point(p, float(F))[1], rtol=1e-8)
+
+
+@pytest.mark.parametrize("D", [1.01, 1.99])
+@pytest.mark.parametrize("interaction", ["none", "paper", "series"])
+def test_extreme_fractal_dimensions_match_scipy(D, interaction):
+    params = {**TABLE1, "D": D, "G": 1e-10}
+    scene = make_scene(**params, interaction=interaction)
+    loads = jnp.array([1e-7, 1e-5, 1e-4]) * E * AREA
+    sol = jc.solve(scene, loads)
+    p = BaselineParameters(**params, interaction=interaction)
+    for i, F in enumerate(np.asarray(loads)):
+        a_l, K, _, status = solve_point(p, float(F))
+        assert jc.status_message(sol.status[i]) == status
+        np.testing.assert_allclose(sol.a_l[i], a_l, rtol=1e-8)
+        if status == "ok":
+            np.testing.assert_allclose(sol.stiffness[i], K, rtol=1e-7)
+
+
+def test_loads_from_tiny_to_the_out_of_range_limit(table1_scene):
+    joint = jc.make_joint(table1_scene)
+    F_max = float(joint.total_load(jnp.asarray(0.0))) * E * AREA  # a_l = A_a
+    scene = make_scene(**TABLE1, interaction="none")  # "paper" breaks down long before F_max
+    loads = jnp.array([1e-12 * E * AREA, 1e-9 * E * AREA, 0.5 * F_max, 0.999999 * F_max, 1.000001 * F_max, 10 * F_max])
+    sol = jc.solve(scene, loads)
+    np.testing.assert_array_equal(sol.status, [0, 0, 0, 0, 1, 1])
+    assert np.all(np.isfinite(sol.stiffness[:4])) and np.all(np.isnan(sol.stiffness[4:]))
+    assert np.all(np.diff(np.asarray(sol.stiffness[:4])) > 0)
+    assert float(sol.a_l[3]) <= AREA and float(sol.a_l[3]) > 0.99 * AREA
+    # The tiniest load: a_l just above the cutoff l_min², still solved to full precision.
+    p = BaselineParameters(**TABLE1, interaction="none")
+    a_l, K, _, _ = solve_point(p, float(loads[0]))
+    assert float(sol.a_l[0]) < 100 * TABLE1["l_min"] ** 2  # within two decades of the cutoff
+    np.testing.assert_allclose([sol.a_l[0], sol.stiffness[0]], [a_l, K], rtol=1e-8)
+
+
+def test_l_min_close_to_sqrt_area():
+    """l_min = 0.99 sqrt(A_a): a_l must lie in the sliver (0.98 A_a, A_a]."""
+    params = {**TABLE1, "l_min": 0.99 * np.sqrt(TABLE1["area"])}
+    scene = make_scene(**params, interaction="series")
+    joint = jc.make_joint(scene)
+    F_max = float(joint.total_load(jnp.asarray(0.0))) * E * AREA
+    loads = jnp.array([1e-3, 0.3, 0.9]) * F_max
+    sol = jc.solve(scene, loads)
+    assert np.all(np.asarray(sol.status) == 0)
+    p = BaselineParameters(**params, interaction="series")
+    for i, F in enumerate(np.asarray(loads)):
+        a_l, K, _, _ = solve_point(p, float(F))
+        np.testing.assert_allclose([sol.a_l[i], sol.stiffness[i]], [a_l, K], rtol=1e-8)
+    g = jax.grad(lambda l: jc.solve(eqx.tree_at(lambda s: s.surface.l_min, scene, l), loads[1]).stiffness)(params["l_min"])
+    assert np.isfinite(g)
+
+
+def test_mixed_batch_keeps_good_points_and_their_gradients():
+    """Breakdown, out-of-range and good points together: the good ones are exactly as if alone."""
+    scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9)  # checkpoints: 1130 N breaks down
+    good = jnp.array([1.13, 11.3, 113.0])
+    batch = jnp.array([1.13, 1130.0, 11.3, 1e9, 113.0])
+    sol = jc.solve(scene, batch)
+    np.testing.assert_array_equal(sol.status, [0, 2, 0, 1, 0])
+    alone = jc.solve(scene, good)
+    np.testing.assert_array_equal(sol.stiffness[jnp.array([0, 2, 4])], alone.stiffness)
+    assert np.isnan(float(sol.stiffness[1])) and np.isnan(float(sol.stiffness[3]))
+    assert np.isfinite(float(sol.a_l[1])) and np.isnan(float(sol.a_l[3]))  # breakdown still has a_l
+
+    def masked_total(D, loads):
+        s = jc.solve(eqx.tree_at(lambda sc: sc.surface.D, scene, D), loads)
+        return jnp.sum(jnp.where(s.status == 0, s.stiffness, 0.0))
+
+    g_batch = jax.grad(masked_total)(1.5, batch)
+    g_good = jax.grad(masked_total)(1.5, good)
+    assert np.isfinite(g_batch)
+    np.testing.assert_allclose(g_batch, g_good, rtol=1e-12)
+
+
+def test_traced_invalid_loads_get_a_status():
+    scene = make_scene(**TABLE1)
+    sol = jax.jit(jc.solve)(scene, jnp.array([-1.0, jnp.nan, 0.0, 22.0]))
+    np.testing.assert_array_equal(sol.status, [4, 4, 4, 0])
+    assert np.isfinite(float(sol.stiffness[3]))
+
+
+def test_unconverged_solve_is_flagged():
+    sol = jc.solve(make_scene(**TABLE1, max_steps=1), jnp.array([22.0, 2200.0]))
+    np.testing.assert_array_equal(sol.status, [jc.Status.NOT_CONVERGED] * 2)
+    assert np.all(np.isnan(np.asarray(sol.stiffness)))
+
+
+@pytest.mark.parametrize("model, interaction", [("xia2024", "paper"), ("xia2024", "series"), ("jzz2010", None)])
+def test_float32_agrees_with_float64(model, interaction):
+    loads = np.logspace(-7, -4, 7) * E * AREA
+    scene64 = make_scene(**TABLE1, model=model, interaction=interaction)
+    ref = jc.solve(scene64, jnp.asarray(loads))
+    with jax.enable_x64(False):
+        sol = jc.solve(make_scene(**TABLE1, model=model, interaction=interaction), loads.astype(np.float32))
+        assert sol.stiffness.dtype == jnp.float32
+        np.testing.assert_array_equal(sol.status, ref.status)
+        np.testing.assert_allclose(sol.stiffness, ref.stiffness, rtol=1e-4)
+        np.testing.assert_allclose(sol.a_l, ref.a_l, rtol=1e-4)
+        g32 = jax.grad(lambda D: jc.solve(eqx.tree_at(lambda s: s.surface.D, scene64, D), np.float32(22.0)).stiffness)(
+            np.float32(1.4058))
+    g64 = jax.grad(lambda D: jc.solve(eqx.tree_at(lambda s: s.surface.D, scene64, D), 22.0).stiffness)(1.4058)
+    np.testing.assert_allclose(g32, g64, rtol=1e-3)
+
+
+def test_float32_does_not_overflow_at_extreme_D():
+    """a_c ∝ φ^(2/(1-D)) is ~1e170 A_a at D = 1.01: float32 must still give float64's answers."""
+    loads = np.array([2.2e-5, 2.2, 2200.0])
+    for D in (1.01, 1.99):
+        params = {**TABLE1, "D": D, "G": 1e-10}
+        ref = jc.solve(make_scene(**params, interaction="series"), loads)
+        with jax.enable_x64(False):
+            sol = jc.solve(make_scene(**params, interaction="series"), loads.astype(np.float32))
+        np.testing.assert_array_equal(sol.status, ref.status)
+        assert np.all(np.asarray(ref.status) == 0)
+        np.testing.assert_allclose(sol.stiffness, ref.stiffness, rtol=1e-4)
