@@ -13,7 +13,7 @@ from .distribution import wang_komvopoulos_psi
 from .joint import AbstractJoint, JointResponse, Xia2024Joint
 from .jzz2010 import JZZ2010Joint
 from .parameters import Material, Surface
-from .scene import INTERACTIONS, MODELS, Scene
+from .scene import INTERACTIONS, MODELS, Scene, stack_scenes
 from .solution import Solution
 from .solve import make_joint, solve
 from .status import Status, status_message
@@ -21,7 +21,7 @@ from .status import Status, status_message
 __all__ = [
     "REGIMES", "INTERACTIONS", "MODELS",
     "Surface", "Material", "Scene", "Solution", "Status", "status_message",
-    "solve", "make_joint", "wang_komvopoulos_psi",
+    "solve", "make_joint", "stack_scenes", "wang_komvopoulos_psi",
     "AbstractJoint", "JointResponse", "Xia2024Joint", "JZZ2010Joint",
 ]
 __version__ = "0.1.0"

@@ -82,3 +82,20 @@ class Scene(eqx.Module):
         if l_min is not None and area is not None and not (l_min**2 < area).all():
             raise ValueError(f"l_min = {l_min} m is too large for area = {area} m²: "
                              "l_min² must be smaller than the nominal area")
+
+
+def stack_scenes(scenes) -> Scene:
+    """Stack scenes that differ only in float values into one batched scene (for `jax.vmap`).
+
+    Every float field becomes an array with a leading batch axis; the static choices must agree.
+    """
+    import jax
+    import jax.numpy as jnp
+
+    scenes = list(scenes)
+    if not scenes:
+        raise ValueError("stack_scenes needs at least one scene")
+    structures = {jax.tree.structure(s) for s in scenes}
+    if len(structures) != 1:
+        raise ValueError("stack_scenes: the scenes differ in model, interaction, distribution or settings")
+    return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x) for x in xs]), *scenes)

@@ -48,7 +48,7 @@ def _check_loads(loads) -> None:
     if np.any(bad):
         where = np.argwhere(bad)[0]
         index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
-        raise ValueError(f"loads{index} = {values[tuple(where)]!r} N is not a valid load: "
+        raise ValueError(f"loads{index} = {float(values[tuple(where)])!r} N is not a valid load: "
                          "loads must be finite and > 0 (valid range (0, inf) N)")
 
 

@@ -1,0 +1,78 @@
+"""The public API's transformation contract: jit, vmap over loads and scenes, grad, jvp, x64."""
+
+import subprocess
+import sys
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+
+LOADS = jnp.array([2.2, 22.0, 220.0])
+
+
+def test_scalar_and_shaped_loads(table1_scene):
+    vector = jc.solve(table1_scene, LOADS)
+    scalar = jc.solve(table1_scene, 22.0)
+    assert scalar.stiffness.shape == () and scalar.load_share.shape == (4,)
+    np.testing.assert_allclose(scalar.stiffness, vector.stiffness[1], rtol=1e-14)
+    grid = jc.solve(table1_scene, jnp.stack([LOADS, LOADS]))
+    assert grid.stiffness.shape == (2, 3) and grid.load_share.shape == (2, 3, 4)
+    np.testing.assert_allclose(grid.stiffness[1], vector.stiffness, rtol=1e-14)
+
+
+def test_jit_and_vmap_over_loads(table1_scene):
+    ref = jc.solve(table1_scene, LOADS).stiffness
+    np.testing.assert_allclose(jax.jit(jc.solve)(table1_scene, LOADS).stiffness, ref, rtol=1e-14)
+    per_point = jax.vmap(lambda F: jc.solve(table1_scene, F).stiffness)(LOADS)
+    np.testing.assert_allclose(per_point, ref, rtol=1e-13)
+
+
+def test_vmap_over_batched_scenes():
+    Ds = [1.3, 1.4058, 1.6]
+    expected = [jc.solve(make_scene(**(TABLE1 | {"D": D})), LOADS).stiffness for D in Ds]
+    # equinox idiom: only the array leaves (here D) are batched.
+    batched = eqx.tree_at(lambda s: s.surface.D, make_scene(**TABLE1), jnp.array(Ds))
+    out = eqx.filter_vmap(lambda s: jc.solve(s, LOADS).stiffness)(batched)
+    np.testing.assert_allclose(out, jnp.stack(expected), rtol=1e-12)
+    # plain jax.vmap over a fully stacked scene.
+    stacked = jc.stack_scenes([make_scene(**(TABLE1 | {"D": D})) for D in Ds])
+    out = jax.vmap(jc.solve, in_axes=(0, None))(stacked, LOADS).stiffness
+    np.testing.assert_allclose(out, jnp.stack(expected), rtol=1e-12)
+
+
+def test_jvp_matches_grad(table1_scene):
+    def K(D):
+        return jc.solve(eqx.tree_at(lambda s: s.surface.D, table1_scene, D), 22.0).stiffness
+    _, tangent = jax.jvp(K, (1.4058,), (1.0,))
+    np.testing.assert_allclose(tangent, jax.grad(K)(1.4058), rtol=1e-10)
+
+
+def test_gradient_with_respect_to_the_whole_scene(table1_scene):
+    grads = jax.grad(lambda s: jc.solve(s, 22.0).stiffness)(jax.tree.map(jnp.asarray, table1_scene))
+    leaves = jax.tree.leaves(grads)
+    assert len(leaves) == 7 and all(np.isfinite(x) for x in leaves)
+
+
+def test_dimensionless_outputs(table1_scene):
+    sol = jc.solve(table1_scene, LOADS)
+    E, A = TABLE1["E"], TABLE1["area"]
+    np.testing.assert_allclose(sol.load_star, LOADS / (E * A), rtol=1e-15)
+    np.testing.assert_allclose(sol.stiffness_star, sol.stiffness / (E * np.sqrt(A)), rtol=1e-14)
+    np.testing.assert_allclose(sol.real_area_star, sol.real_area / A, rtol=1e-14)
+    assert sol.status.dtype == jnp.int32
+
+
+def test_import_does_not_enable_x64():
+    code = "import jax, jaxcontact; assert not jax.config.jax_enable_x64; print(jaxcontact.solve(jaxcontact.Scene(jaxcontact.Surface(1.4, 1e-10), jaxcontact.Material(2e11, 0.3, 1e11), 1e-4), 10.0).stiffness.dtype)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={"JAX_PLATFORMS": "cpu", "PATH": ""})
+    assert out.stdout.strip() == "float32"
+
+
+def test_status_names():
+    assert jc.status_message(0) == "ok" and jc.status_message(2) == "interaction_breakdown"
+    assert jc.status_message(jc.Status.LOAD_OUT_OF_RANGE) == "load_out_of_range"
