@@ -26,6 +26,8 @@ class Scene(eqx.Module):
     - `interaction`: "paper" (default for xia2024, `ω = ξ - σ` as Eqs. 23–26 print), "series"
       (`ω = ξ + σ`) or "none"; xia2024 only (jzz2010 takes "none" or nothing).
     - `distribution`: "mb" (Majumdar–Bhushan, Eq. 30) or "wk" (Wang–Komvopoulos correction).
+    - `regime_shares`: whether to split load and stiffness by regime (`Solution.load_share`,
+      `stiffness_share`); with False those fields are None and nothing is spent on them.
     - `quadrature_nodes`: Gauss–Legendre nodes per regime for the interaction stiffness (static).
     - `max_steps`: cap on the a_l solve's Newton/bisection steps (static).
     - `solver_tolerance`: tolerance on `ln a_l`; `None` picks 64 ε of the working dtype (static).
@@ -41,12 +43,14 @@ class Scene(eqx.Module):
     model: str = eqx.field(static=True)
     interaction: str = eqx.field(static=True)
     distribution: str = eqx.field(static=True)
+    regime_shares: bool = eqx.field(static=True)
     quadrature_nodes: int = eqx.field(static=True)
     max_steps: int = eqx.field(static=True)
     solver_tolerance: float | None = eqx.field(static=True)
 
     def __init__(self, surface: Surface, material: Material, area, model: str = "xia2024",
-                 interaction: str | None = None, distribution: str = "mb", quadrature_nodes: int = 48,
+                 interaction: str | None = None, distribution: str = "mb", regime_shares: bool = True,
+                 quadrature_nodes: int = 48,
                  max_steps: int = 64, solver_tolerance: float | None = None):
         if not isinstance(surface, Surface):
             raise ValueError(f"surface must be a jaxcontact.Surface, got {type(surface).__name__}")
@@ -60,6 +64,8 @@ class Scene(eqx.Module):
             raise ValueError(f"interaction = {interaction!r} applies to model 'xia2024' only; "
                              "model 'jzz2010' has no interaction (use 'none' or leave it out)")
         check_choice("distribution", distribution, DISTRIBUTIONS)
+        if not isinstance(regime_shares, bool):
+            raise ValueError(f"regime_shares = {regime_shares!r} must be true or false")
         if not isinstance(quadrature_nodes, int) or not 2 <= quadrature_nodes <= 1024:
             raise ValueError(f"quadrature_nodes = {quadrature_nodes!r} must be an integer in [2, 1024]")
         if not isinstance(max_steps, int) or not 1 <= max_steps <= 10_000:
@@ -72,6 +78,7 @@ class Scene(eqx.Module):
         self.model = model
         self.interaction = interaction
         self.distribution = distribution
+        self.regime_shares = regime_shares
         self.quadrature_nodes = quadrature_nodes
         self.max_steps = max_steps
         self.solver_tolerance = solver_tolerance

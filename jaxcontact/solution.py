@@ -20,8 +20,9 @@ class Solution(eqx.Module):
     - `status`: int32 per point, see `jaxcontact.Status` (0 = ok).
     - `load_share`, `stiffness_share`: fraction of F and of K carried by each regime, last axis
       ordered as `REGIMES` = (e, ep1, ep2, p). For "jzz2010" the slots are (elastic, 0, 0, plastic).
-    - `load_star`, `stiffness_star`, `real_area_star`: the paper's dimensionless
-      F* = F/(E A_a), K* = K/(E sqrt(A_a)), A_r* = A_r/A_a.
+      None when the scene does not ask for them (`Scene.regime_shares=False`).
+    - `load_star`, `stiffness_star`, `real_area_star`, `a_l_star`: the paper's dimensionless
+      F* = F/(E A_a), K* = K/(E sqrt(A_a)), A_r* = A_r/A_a, a_l* = a_l/A_a.
     """
 
     load: Float[Array, "*loads"]
@@ -29,11 +30,12 @@ class Solution(eqx.Module):
     stiffness: Float[Array, "*loads"]
     real_area: Float[Array, "*loads"]
     status: Int[Array, "*loads"]
-    load_share: Float[Array, "*loads 4"]
-    stiffness_share: Float[Array, "*loads 4"]
+    load_share: Float[Array, "*loads 4"] | None
+    stiffness_share: Float[Array, "*loads 4"] | None
     load_star: Float[Array, "*loads"]
     stiffness_star: Float[Array, "*loads"]
     real_area_star: Float[Array, "*loads"]
+    a_l_star: Float[Array, "*loads"]
 
     regimes = REGIMES
 

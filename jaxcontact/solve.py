@@ -96,23 +96,28 @@ def _solve(scene: Scene, loads):
     nan = jnp.array(jnp.nan, dtype)
     solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
     ok = status == Status.OK
-    load_total = jnp.sum(response.regime_load, axis=-1)
     stiffness_total = jnp.sum(response.regime_stiffness, axis=-1)
-    stiffness_share = response.regime_stiffness / jnp.where(stiffness_total > 0, stiffness_total, 1.0)[:, None]
     a_l_star = jnp.where(solved, jnp.exp(log_a_l), nan)
     stiffness_star = jnp.where(ok, stiffness_total, nan)
     real_area_star = jnp.where(solved, response.real_area, nan)
+    load_share = stiffness_share = None
+    if scene.regime_shares:
+        load_total = jnp.sum(response.regime_load, axis=-1, keepdims=True)
+        positive = jnp.where(stiffness_total > 0, stiffness_total, 1.0)[:, None]  # K = 0: all plastic
+        load_share = jnp.where(solved[:, None], response.regime_load / load_total, nan).reshape(shape + (4,))
+        stiffness_share = jnp.where(ok[:, None], response.regime_stiffness / positive, nan).reshape(shape + (4,))
     return Solution(
         load=loads,
         a_l=(a_l_star * area).reshape(shape),
         stiffness=(stiffness_star * E * jnp.sqrt(area)).reshape(shape),
         real_area=(real_area_star * area).reshape(shape),
         status=status.reshape(shape),
-        load_share=jnp.where(solved[:, None], response.regime_load / load_total[:, None], nan).reshape(shape + (4,)),
-        stiffness_share=jnp.where(ok[:, None], stiffness_share, nan).reshape(shape + (4,)),
+        load_share=load_share,
+        stiffness_share=stiffness_share,
         load_star=load_star,
         stiffness_star=stiffness_star.reshape(shape),
         real_area_star=real_area_star.reshape(shape),
+        a_l_star=a_l_star.reshape(shape),
     )
 
 

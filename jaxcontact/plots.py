@@ -1,0 +1,57 @@
+"""Plots of a load sweep on the paper's dimensionless axes (matplotlib, Agg backend)."""
+
+from __future__ import annotations
+
+import pathlib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .asperity import REGIMES  # noqa: E402
+from .solution import Solution  # noqa: E402
+
+
+def _save(fig, path: pathlib.Path) -> str:
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return str(path)
+
+
+def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
+    """Stiffness and largest spot against load (and regime shares if computed); returns the paths."""
+    out.mkdir(parents=True, exist_ok=True)
+    F = np.asarray(solution.load_star)
+    ok = np.asarray(solution.status) == 0
+    flagged = ~ok & np.isfinite(np.asarray(solution.a_l))
+    paths = []
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.loglog(F[ok], np.asarray(solution.stiffness_star)[ok], "o-", ms=3, label="K*")
+    if flagged.any():
+        ax.plot(F[flagged], np.full(flagged.sum(), np.nanmax(solution.stiffness_star[ok]) if ok.any() else 1.0),
+                "x", color="C3", label="flagged (no valid K)")
+    ax.set(xlabel="F* = F / (E A_a)", ylabel="K* = K / (E sqrt(A_a))", title=title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    paths.append(_save(fig, out / "stiffness.png"))
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    solved = np.isfinite(np.asarray(solution.a_l))
+    ax.loglog(F[solved], np.asarray(solution.a_l_star)[solved], "o-", ms=3)
+    ax.set(xlabel="F*", ylabel="a_l* = a_l / A_a", title="Largest contact spot (Fig. 3)")
+    ax.grid(True, which="both", alpha=0.3)
+    paths.append(_save(fig, out / "largest_spot.png"))
+
+    if solution.load_share is not None:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+        for ax, share, what in ((axes[0], solution.load_share, "load"), (axes[1], solution.stiffness_share, "stiffness")):
+            valid = np.all(np.isfinite(np.asarray(share)), axis=-1)
+            ax.stackplot(F[valid], np.asarray(share)[valid].T, labels=REGIMES, alpha=0.8)
+            ax.set(xscale="log", xlabel="F*", ylabel=f"share of {what}", ylim=(0, 1), title=f"{what} by regime")
+        axes[1].legend(loc="upper left")
+        paths.append(_save(fig, out / "regime_shares.png"))
+    return paths

@@ -1,0 +1,80 @@
+"""The command line: the main job on the default scene, JSON output, figures, one-line errors."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact.cli import main
+
+
+@pytest.fixture(autouse=True)
+def no_cache(monkeypatch):
+    monkeypatch.setenv("JAXCONTACT_CACHE", "")
+
+
+def test_run_default_scene(tmp_path, capsys):
+    assert main(["run", "--out", str(tmp_path), "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "Table 1 grinding surface" in text and "interaction_breakdown" in text
+    rows = list(csv.DictReader(open(tmp_path / "results.csv")))
+    assert len(rows) == 41
+    F_star = np.array([float(r["F_star"]) for r in rows])
+    sol = jc.solve(make_scene(**TABLE1), F_star * TABLE1["E"] * TABLE1["area"])
+    K_csv = np.array([float(r["K_N_per_m"]) for r in rows])
+    np.testing.assert_allclose(K_csv, np.asarray(sol.stiffness), rtol=1e-12)  # nan where flagged
+    i = int(np.argmin(abs(F_star - 1e-6)))
+    assert abs(float(rows[i]["K_star"]) - 1.04576) < 5e-6  # MODEL.md §7
+    assert rows[-1]["status"] == "interaction_breakdown" and rows[-1]["K_N_per_m"] == "nan"
+    for png in ("stiffness.png", "largest_spot.png", "regime_shares.png"):
+        assert (tmp_path / png).stat().st_size > 10_000
+
+
+def test_run_json(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('[surface]\nD = 1.5\nG = 3e-10\n[material]\nE = 1.13e11\nnu = 0.3\nH = 4e9\n'
+                     '[joint]\narea = 1e-4\n[effects]\nregime_shares = false\n[loads]\nvalues = [1.13, 1130.0, 1e9]\n')
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--format", "json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert [r["status"] for r in payload["rows"]] == ["ok", "interaction_breakdown", "load_out_of_range"]
+    assert payload["rows"][1]["K_N_per_m"] is None and payload["rows"][0]["K_N_per_m"] > 0
+    np.testing.assert_allclose(payload["rows"][0]["a_l_m2"], 4.842854262e-11, rtol=1e-6)  # checkpoints.csv
+
+
+@pytest.mark.parametrize("content, message", [
+    (None, "does not exist"),
+    ("[surface\nD = 1.4", "is not valid TOML"),
+    ("[surface]\nD = 1.4\n", "missing key surface.G"),
+    ("[surface]\nD = 1.4\nG = 1e-10\nroughness = 2\n", "unknown key surface.roughness"),
+])
+def test_errors_are_one_line_with_exit_2(tmp_path, capsys, content, message):
+    path = tmp_path / "scene.toml"
+    if content is not None:
+        path.write_text(content)
+    assert main(["run", str(path), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1 and "Traceback" not in err
+
+
+def test_console_script_reports_bad_value_without_traceback(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[surface]\nD = 2.5\nG = 1e-10\n[material]\nE = 2e11\nnu = 0.3\nH = 1e9\n[joint]\narea = 1e-4\n'
+                   '[loads]\nvalues = [1.0]\n')
+    out = subprocess.run([sys.executable, "-m", "jaxcontact.cli", "run", str(bad), "--out", str(tmp_path)],
+                         capture_output=True, text=True, env={"JAX_PLATFORMS": "cpu", "JAXCONTACT_CACHE": "", "PATH": ""})
+    assert out.returncode == 2
+    assert out.stderr.strip() == ("jaxcontact run: error: D (fractal dimension) = 2.5 is outside its valid range (1, 2)")
+
+
+def test_figures(tmp_path, capsys):
+    assert main(["figures", "--out", str(tmp_path), "--format", "json", "--no-progress"]) == 0
+    files = json.loads(capsys.readouterr().out)["files"]
+    names = sorted(p.split("/")[-1] for p in files)
+    assert names == sorted(["fig3_largest_spot.png", "fig4_stiffness_vs_D.png", "fig5_stiffness_vs_G.png",
+                            "fig6_interaction.png", "fig8_models.png", "l_min_dependence.png"])
+    assert all((tmp_path / n).stat().st_size > 10_000 for n in names)

@@ -1,0 +1,69 @@
+"""Effects are static: what a scene does not ask for is not in its compiled program."""
+
+import jax
+import jax.extend
+import jax.numpy as jnp
+import numpy as np
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+
+LOADS = jnp.array([2.2, 22.0, 220.0])
+
+
+def all_equations(jaxpr):
+    """Every equation of a closed jaxpr, sub-jaxprs (while, cond, custom_jvp, pjit) included."""
+    out = []
+    for eqn in jaxpr.eqns:
+        out.append(eqn)
+        for sub in jax.extend.core.jaxprs_in_params(eqn.params):
+            out.extend(all_equations(sub))
+    return out
+
+
+def program(scene):
+    closed = jax.make_jaxpr(lambda s, F: jc.solve(s, F))(jax.tree.map(jnp.asarray, scene), LOADS)
+    return closed, all_equations(closed.jaxpr)
+
+
+def has_quadrature_nodes(closed, eqns, nodes):
+    """True where an array with a trailing axis of `nodes` (the Gauss–Legendre nodes) exists."""
+    shapes = [getattr(v.aval, "shape", ()) for e in eqns for v in list(e.invars) + list(e.outvars) if hasattr(v, "aval")]
+    shapes += [np.shape(c) for c in closed.consts]
+    return any(len(s) and s[-1] == nodes for s in shapes)
+
+
+def test_without_interaction_the_pressure_never_reaches_the_stiffness():
+    joint = jc.make_joint(make_scene(**TABLE1, interaction="none"))
+    jaxpr = jax.make_jaxpr(lambda la, lp: joint.response(la, lp).regime_stiffness)(-20.0, -13.0).jaxpr
+    pressure = jaxpr.invars[1]
+    assert all(pressure not in e.invars for e in all_equations(jaxpr))
+    with_interaction = jc.make_joint(make_scene(**TABLE1, interaction="paper"))
+    jaxpr = jax.make_jaxpr(lambda la, lp: with_interaction.response(la, lp).regime_stiffness)(-20.0, -13.0).jaxpr
+    assert any(jaxpr.invars[1] in e.invars for e in all_equations(jaxpr))
+
+
+def test_interaction_quadrature_only_when_asked():
+    nodes = 37  # an unusual count, so that no other array has this trailing size
+    counts = {}
+    for interaction in ("none", "paper"):
+        closed, eqns = program(make_scene(**TABLE1, interaction=interaction, quadrature_nodes=nodes))
+        counts[interaction] = len(eqns)
+        assert has_quadrature_nodes(closed, eqns, nodes) == (interaction != "none")
+    # The a_l solve dominates the program; the interaction adds ~70 equations (838 vs 905 here).
+    assert counts["paper"] - counts["none"] >= 40, counts
+
+
+def test_regime_shares_only_when_asked():
+    lean = make_scene(**TABLE1, regime_shares=False)
+    sol = jc.solve(lean, LOADS)
+    assert sol.load_share is None and sol.stiffness_share is None
+    # Same numbers (XLA may fuse the two programs differently: last-bit differences only).
+    np.testing.assert_allclose(sol.stiffness, jc.solve(make_scene(**TABLE1), LOADS).stiffness, rtol=1e-14)
+    assert len(program(lean)[1]) < len(program(make_scene(**TABLE1))[1])
+
+
+def test_mb_distribution_has_no_wk_root_find():
+    def root_finds(scene):
+        return sum(e.primitive.name == "while" for e in program(scene)[1])
+    assert root_finds(make_scene(**TABLE1, distribution="wk")) == root_finds(make_scene(**TABLE1)) + 1
