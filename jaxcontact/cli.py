@@ -98,6 +98,31 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_fit(args) -> int:
+    import numpy as np
+
+    import fitting
+
+    from .plots import plot_fit
+    from .scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    curve = fitting.load_curve(args.data, spec.scene)
+    result = fitting.fit(curve.loads, curve.stiffness, spec.scene, params=args.params, method=args.method,
+                         n_starts=args.starts)
+    out = pathlib.Path(args.out)
+    fine = np.geomspace(curve.loads.min(), curve.loads.max(), 200)
+    from .runner import solve_sweep
+
+    fitted = solve_sweep(result.scene, fine)
+    files = [plot_fit(curve.loads, curve.stiffness, fine, fitted.stiffness, result.summary().splitlines()[1:3],
+                      out / "fit.png")]
+    text = f"{curve.source}: {curve.loads.size} points, scene {spec.title}\n{result.summary()}\n" + \
+        "\n".join(f"wrote {f}" for f in files)
+    _print({"data": curve.source, **result.to_dict(), "files": files}, args.format, text)
+    return 0 if result.success else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -116,6 +141,15 @@ def build_parser() -> argparse.ArgumentParser:
     common(p, "jaxcontact-out/figures")
     p.set_defaults(func=cmd_figures)
 
+    p = sub.add_parser("fit", help="fit D and G (or other parameters) to a measured stiffness curve (CSV)")
+    p.add_argument("data", help="CSV with columns load_N,stiffness_N_per_m (or F_star,K_star)")
+    p.add_argument("--scene", help="scene TOML supplying the parameters that are not fitted (default: embedded)")
+    p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
+    p.add_argument("--method", choices=("lbfgs", "lm"), default="lbfgs", help="optimiser (default: lbfgs)")
+    p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
+    common(p, "jaxcontact-out")
+    p.set_defaults(func=cmd_fit)
+
     p = sub.add_parser("bench", help="time the compiled model: each effect's cost, speed against scipy")
     p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")
     common(p, "jaxcontact-out")
@@ -127,11 +161,9 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     _setup_jax()
-    from .scenefile import SceneFileError
-
     try:
         return args.func(args)
-    except (SceneFileError, ValueError, CommandError, OSError) as exc:
+    except (ValueError, CommandError, OSError) as exc:  # SceneFileError and DataError are ValueErrors
         print(f"jaxcontact {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

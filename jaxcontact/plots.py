@@ -55,3 +55,15 @@ def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
         axes[1].legend(loc="upper left")
         paths.append(_save(fig, out / "regime_shares.png"))
     return paths
+
+
+def plot_fit(loads, stiffness, fine_loads, fitted_stiffness, legend_lines, path: pathlib.Path) -> str:
+    """Measured points against the fitted curve."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.loglog(loads, stiffness, "o", ms=4, label="data")
+    ax.loglog(fine_loads, fitted_stiffness, "-", label="fit: " + "; ".join(s.strip().split("   ")[0] for s in legend_lines))
+    ax.set(xlabel="load F (N)", ylabel="stiffness K (N/m)", title="Fit of the stiffness curve")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)

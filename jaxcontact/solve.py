@@ -74,6 +74,12 @@ def _solve(scene: Scene, loads):
     log_load_highest = jnp.log(joint.total_load(upper))
     secant_slope = (upper - middle) / (log_load_highest - log_load_middle)
 
+    # Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
+    s, m = scene.surface, scene.material
+    parameters_valid = ((s.D > 1.0) & (s.D < 2.0) & (s.G > 0) & (s.l_min > 0) & (m.E > 0) & (m.H > 0)
+                        & (m.nu >= 0) & (m.nu < 0.5) & (area > 0) & (lower < upper)
+                        & jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle))
+
     def one_point(F_star):
         valid = jnp.isfinite(F_star) & (F_star > 0)
         log_load = jnp.log(jnp.where(valid, F_star, 1.0))
@@ -85,8 +91,9 @@ def _solve(scene: Scene, loads):
                                               tolerance=tolerance, max_steps=scene.max_steps)
         response = joint.response(log_a_l, log_load)
         status = jnp.select(
-            [~valid, ~in_range, ~converged, response.breakdown],
-            [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED, Status.INTERACTION_BREAKDOWN],
+            [~parameters_valid, ~valid, ~in_range, ~converged, response.breakdown],
+            [Status.INVALID_PARAMETERS, Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED,
+             Status.INTERACTION_BREAKDOWN],
             Status.OK,
         ).astype(jnp.int32)
         return log_a_l, response, status

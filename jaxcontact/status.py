@@ -17,6 +17,8 @@ class Status(enum.IntEnum):
     - `NOT_CONVERGED`: the a_l solve ran out of steps (`Scene.max_steps`).
     - `INVALID_LOAD`: the load is not a positive finite number (only possible for traced loads;
       concrete ones raise `ValueError`).
+    - `INVALID_PARAMETERS`: a traced scene parameter lies outside its valid range (e.g. an
+      optimiser stepped to D = 2); concrete ones raise `ValueError` when the scene is built.
     """
 
     OK = 0
@@ -24,6 +26,7 @@ class Status(enum.IntEnum):
     INTERACTION_BREAKDOWN = 2
     NOT_CONVERGED = 3
     INVALID_LOAD = 4
+    INVALID_PARAMETERS = 5
 
 
 def status_message(code: int) -> str:

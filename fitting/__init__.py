@@ -1,0 +1,15 @@
+"""fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
+
+`fit(loads, stiffness, scene, params=("D", "G"), method="lbfgs")` returns a `FitResult` with
+estimates, standard errors, 95 % intervals, correlations and identifiability warnings.
+"""
+
+from .data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
+from .fit import FLAGGED_RESIDUAL, METHODS, FitResult, fit, log_residuals, starting_points
+from .parameters import PARAMETERS, FitParameter, resolve
+
+__all__ = [
+    "fit", "FitResult", "METHODS", "FLAGGED_RESIDUAL", "log_residuals", "starting_points",
+    "PARAMETERS", "FitParameter", "resolve",
+    "Curve", "DataError", "load_curve", "parse_curve", "write_curve", "COLUMN_SETS",
+]

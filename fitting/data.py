@@ -1,0 +1,83 @@
+"""Measured stiffness curves from CSV.
+
+A header row is required; lines starting with `#` before it are comments (used to label
+generated data). Columns: `load_N,stiffness_N_per_m`, or the dimensionless `F_star,K_star`
+(converted with the scene's E and nominal area).
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import io
+import math
+import pathlib
+
+import numpy as np
+
+import jaxcontact as jc
+
+COLUMN_SETS = (("load_N", "stiffness_N_per_m"), ("F_star", "K_star"))
+
+
+class DataError(ValueError):
+    """A curve file that cannot be used; the message says where and why."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Curve:
+    """A stiffness-vs-load curve in SI units."""
+
+    loads: np.ndarray
+    stiffness: np.ndarray
+    source: str = "<array>"
+
+
+def parse_curve(text: str, scene: jc.Scene, source: str = "<text>") -> Curve:
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise DataError(f"{source}: no header row and no data")
+    reader = csv.DictReader(io.StringIO("\n".join(lines)))
+    header = [h.strip() for h in (reader.fieldnames or [])]
+    reader.fieldnames = header
+    columns = next((c for c in COLUMN_SETS if all(k in header for k in c)), None)
+    if columns is None:
+        raise DataError(f"{source}: header {','.join(header)!r} lacks the columns "
+                        f"'load_N,stiffness_N_per_m' (or 'F_star,K_star')")
+    x, y = [], []
+    for row_number, row in enumerate(reader, start=2):
+        pair = []
+        for key in columns:
+            raw = (row.get(key) or "").strip()
+            try:
+                value = float(raw)
+            except ValueError:
+                raise DataError(f"{source}: row {row_number}, column {key}: {raw!r} is not a number") from None
+            if not (math.isfinite(value) and value > 0):
+                raise DataError(f"{source}: row {row_number}, column {key}: {raw} must be a positive finite number")
+            pair.append(value)
+        x.append(pair[0])
+        y.append(pair[1])
+    if len(x) < 3:
+        raise DataError(f"{source}: {len(x)} data rows; a fit needs at least 3")
+    loads, stiffness = np.asarray(x), np.asarray(y)
+    if columns[0] == "F_star":
+        E, area = float(scene.material.E), float(scene.area)
+        loads, stiffness = loads * E * area, stiffness * E * math.sqrt(area)
+    return Curve(loads, stiffness, source)
+
+
+def load_curve(path, scene: jc.Scene) -> Curve:
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise DataError(f"data file {str(path)!r} does not exist")
+    return parse_curve(path.read_text(), scene, str(path))
+
+
+def write_curve(path, loads, stiffness, comments=()) -> None:
+    with open(path, "w", newline="") as f:
+        for c in comments:
+            f.write(f"# {c}\n")
+        f.write("load_N,stiffness_N_per_m\n")
+        for F, K in zip(loads, stiffness):
+            f.write(f"{float(F):.10g},{float(K):.10g}\n")

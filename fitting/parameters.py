@@ -1,0 +1,91 @@
+"""Fittable parameters: where each lives in a `Scene`, its bounds, and its coordinates.
+
+Each parameter has a *statistical* coordinate in which the Gauss–Newton covariance is formed
+(linear for D and ν, logarithmic for the positive scales G, E, H, l_min, area: a relative
+uncertainty is what a 5 % noise level produces), and an unconstrained *optimiser* coordinate
+`u` with `s = low + (high - low) · sigmoid(u)`, so that no step can leave the bounds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+import jaxcontact as jc
+
+
+@dataclasses.dataclass(frozen=True)
+class FitParameter:
+    name: str
+    get: Callable[[jc.Scene], object]
+    low: float  # bounds of the physical value
+    high: float
+    log: bool  # statistical coordinate is ln(value)
+    unit: str
+
+    @property
+    def stat_bounds(self) -> tuple[float, float]:
+        return (math.log(self.low), math.log(self.high)) if self.log else (self.low, self.high)
+
+    def to_stat(self, value):
+        return jnp.log(value) if self.log else value
+
+    def from_stat(self, s):
+        return jnp.exp(s) if self.log else s
+
+    def stat_from_u(self, u):
+        lo, hi = self.stat_bounds
+        # Clamped: a saturated sigmoid must not land exactly on an open bound (D = 2, ν = 0.5).
+        fraction = jnp.clip(jax.nn.sigmoid(u), 1e-9, 1.0 - 1e-9)
+        return lo + (hi - lo) * fraction
+
+    def u_from_stat(self, s):
+        lo, hi = self.stat_bounds
+        p = (s - lo) / (hi - lo)
+        return jnp.log(p) - jnp.log1p(-p)
+
+
+PARAMETERS = {
+    p.name: p
+    for p in (
+        FitParameter("D", lambda s: s.surface.D, 1.0, 2.0, False, ""),
+        FitParameter("G", lambda s: s.surface.G, 1e-15, 1e-6, True, "m"),
+        FitParameter("l_min", lambda s: s.surface.l_min, 1e-12, 1e-6, True, "m"),
+        FitParameter("E", lambda s: s.material.E, 1e8, 1e13, True, "Pa"),
+        FitParameter("nu", lambda s: s.material.nu, 0.0, 0.5, False, ""),
+        FitParameter("H", lambda s: s.material.H, 1e6, 1e12, True, "Pa"),
+        FitParameter("area", lambda s: s.area, 1e-10, 1.0, True, "m²"),
+    )
+}
+
+
+def resolve(names) -> tuple[FitParameter, ...]:
+    """The `FitParameter`s for `names` (a sequence or a comma-separated string)."""
+    if isinstance(names, str):
+        names = [n.strip() for n in names.split(",") if n.strip()]
+    names = list(names)
+    if not names:
+        raise ValueError("params must name at least one parameter")
+    unknown = [n for n in names if n not in PARAMETERS]
+    if unknown:
+        raise ValueError(f"params: {', '.join(map(repr, unknown))} cannot be fitted "
+                         f"(allowed: {', '.join(PARAMETERS)})")
+    if len(set(names)) != len(names):
+        raise ValueError(f"params = {names} names a parameter twice")
+    return tuple(PARAMETERS[n] for n in names)
+
+
+def with_stat(scene: jc.Scene, params, stat) -> jc.Scene:
+    """The scene with the fitted parameters set from their statistical coordinates."""
+    for i, p in enumerate(params):
+        scene = eqx.tree_at(p.get, scene, p.from_stat(stat[i]))
+    return scene
+
+
+def stat_of(scene: jc.Scene, params) -> jnp.ndarray:
+    return jnp.stack([p.to_stat(jnp.asarray(p.get(scene), dtype=float)) for p in params])

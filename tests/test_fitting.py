@@ -1,0 +1,163 @@
+"""Inverse fitting: recovery, honest intervals (coverage), multi-start agreement, flagged data."""
+
+import json
+
+import jax
+import numpy as np
+import pytest
+from conftest import ROOT, TABLE1, make_scene
+
+import fitting
+import jaxcontact as jc
+from fitting.synthetic import TABLE1_F_STAR, synthetic_curve, table1_generated
+
+TRUTH = {"D": TABLE1["D"], "G": TABLE1["G"]}
+START = dict(TABLE1, D=1.55, G=1e-9)  # the scene handed to fit: wrong D and G
+
+
+@pytest.fixture(scope="module")
+def table1():
+    return make_scene(**TABLE1)
+
+
+@pytest.mark.parametrize("model, interaction", [("xia2024", "none"), ("xia2024", "paper"), ("xia2024", "series"),
+                                                ("jzz2010", "none")])
+@pytest.mark.parametrize("D, G", [(1.25, 3e-11), (1.4058, 2.2826e-10), (1.6, 5e-10)])
+def test_noiseless_recovery(model, interaction, D, G):
+    truth = make_scene(**dict(TABLE1, D=D, G=G), model=model, interaction=interaction)
+    F_star = np.geomspace(1e-10, 1e-5, 25) if model == "xia2024" else np.geomspace(1e-8, 1e-3, 25)
+    loads, K = synthetic_curve(truth, F_star, noise=0.0)
+    elastic = K > 0  # JZZ: K = 0 exactly while every spot is plastic (a_l < a_c); no log there
+    assert elastic.sum() >= 10
+    result = fitting.fit(loads[elastic], K[elastic], make_scene(**START, model=model, interaction=interaction))
+    assert result.success, result.summary()
+    np.testing.assert_allclose([result.values["D"], result.values["G"]], [D, G], rtol=1e-6)
+
+
+@pytest.mark.parametrize("method", ["lbfgs", "lm"])
+def test_methods_agree_on_noisy_data(table1, method):
+    loads, K = table1_generated(table1)
+    result = fitting.fit(loads, K, make_scene(**START), method=method)
+    reference = fitting.fit(loads, K, make_scene(**START), method="lm" if method == "lbfgs" else "lbfgs")
+    assert result.success and reference.success
+    np.testing.assert_allclose(result.values["D"], reference.values["D"], rtol=1e-7)
+    np.testing.assert_allclose(result.values["G"], reference.values["G"], rtol=1e-5)
+
+
+def test_generated_file_is_reproducible_and_fits_within_tolerance(table1):
+    curve = fitting.load_curve(ROOT / "data" / "table1_grinding_generated.csv", table1)
+    loads, K = table1_generated(table1)
+    np.testing.assert_allclose(curve.loads, loads, rtol=1e-9)
+    np.testing.assert_allclose(curve.stiffness, K, rtol=1e-9)
+    result = fitting.fit(curve.loads, curve.stiffness, make_scene(**START))
+    assert abs(result.values["D"] - TRUTH["D"]) < 0.01
+    for name, value in TRUTH.items():
+        lo, hi = result.ci95[name]
+        assert lo < value < hi, (name, value, result.ci95[name])
+    assert not result.warnings, result.warnings
+
+
+def test_coverage_over_40_noise_seeds(table1):
+    """The 95 % intervals must cover the truth in at least 85 % of noise realisations."""
+    covered = {"D": 0, "G": 0}
+    errors = []
+    for seed in range(40):
+        loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.05, seed=1000 + seed)
+        result = fitting.fit(loads, K, make_scene(**START), n_starts=8)
+        assert result.success
+        errors.append(result.values["D"] - TRUTH["D"])
+        for name, value in TRUTH.items():
+            lo, hi = result.ci95[name]
+            covered[name] += lo < value < hi
+    assert covered["D"] >= 34 and covered["G"] >= 34, covered
+    assert np.max(np.abs(errors)) < 0.01
+
+
+def test_starts_anywhere_in_the_bounds_reach_the_same_optimum(table1):
+    loads, K = table1_generated(table1)
+    results = [fitting.fit(loads, K, make_scene(**START), seed=seed) for seed in (1, 2, 3)]
+    corners = [[1.05, 1e-14], [1.95, 1e-14], [1.05, 1e-7], [1.95, 1e-7], [1.2, 1e-12], [1.8, 1e-8]]
+    results.append(fitting.fit(loads, K, make_scene(**START), starts=corners + [[1.5, 1e-10]]))
+    for r in results[1:]:
+        np.testing.assert_allclose(r.values["D"], results[0].values["D"], rtol=1e-7)
+        np.testing.assert_allclose(r.values["G"], results[0].values["G"], rtol=1e-5)
+
+
+def test_short_load_range_warns_of_a_rival_optimum(table1):
+    """Above F* = 1e-9 this noise draw prefers a second (D, G): the fit must say so."""
+    loads, K = synthetic_curve(table1, np.geomspace(1e-9, 1e-4, 30), noise=0.05, seed=2024)
+    result = fitting.fit(loads, K, make_scene(**START), n_starts=16)
+    assert any("distinct optimum" in w for w in result.warnings), result.warnings
+
+
+def test_flagged_points_are_named_not_dropped_silently():
+    scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9)  # 1130 N breaks down (checkpoints.csv)
+    loads = np.concatenate([np.geomspace(1e-10, 1e-5, 20) * 1.13e11 * 1e-4, [1130.0]])
+    K = np.array(jc.solve(scene, loads).stiffness)
+    K[-1] = 4e11  # a measured value where the model has none
+    result = fitting.fit(loads, K, make_scene(1.45, 1e-9, 1.13e11, 0.3, 4e9, 1e-4, 1e-9))
+    assert list(result.flagged) == [20] and np.isnan(result.residuals[20])
+    assert any("1130 N (interaction_breakdown)" in w for w in result.warnings)
+    np.testing.assert_allclose([result.values["D"], result.values["G"]], [1.5, 3e-10], rtol=1e-6)
+
+
+def test_other_parameters_can_be_fitted(table1):
+    loads, K = synthetic_curve(table1, np.geomspace(1e-10, 1e-5, 20), noise=0.0)
+    result = fitting.fit(loads, K, make_scene(**dict(TABLE1, H=3e10)), params="H")
+    np.testing.assert_allclose(result.values["H"], TABLE1["H"], rtol=1e-6)
+    result = fitting.fit(loads, K, make_scene(**dict(TABLE1, l_min=3e-9)), params=("l_min",))
+    np.testing.assert_allclose(result.values["l_min"], TABLE1["l_min"], rtol=1e-6)
+
+
+def test_result_is_complete_and_serialisable(table1):
+    loads, K = table1_generated(table1)
+    result = fitting.fit(loads, K, make_scene(**START))
+    assert result.params == ("D", "G") and result.iterations > 0 and result.wall_time > 0
+    c = result.correlation
+    np.testing.assert_allclose(c, c.T) and np.testing.assert_allclose(np.diag(c), 1.0)
+    assert result.residuals.shape == loads.shape and np.all(np.isfinite(result.residuals))
+    rms = np.sqrt(np.mean(result.residuals**2))
+    assert 0.03 < rms < 0.07  # 5 % noise
+    json.dumps(result.to_dict())
+    assert isinstance(result.scene, jc.Scene) and float(result.scene.surface.D) == result.values["D"]
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(params="D,Q"), r"'Q' cannot be fitted"),
+    (dict(method="adam"), r"method = 'adam' is not one of"),
+    (dict(params=("D", "D")), r"names a parameter twice"),
+])
+def test_bad_arguments(table1, kw, message):
+    with pytest.raises(ValueError, match=message):
+        fitting.fit([1.0, 2.0, 3.0], [1e8, 2e8, 3e8], table1, **kw)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("load,K\n1,2\n", "lacks the columns 'load_N,stiffness_N_per_m'"),
+    ("load_N,stiffness_N_per_m\n1,2\n3,x\n5,6\n", "row 3, column stiffness_N_per_m: 'x' is not a number"),
+    ("load_N,stiffness_N_per_m\n1,2\n-3,4\n5,6\n", "row 3, column load_N: -3 must be a positive finite number"),
+    ("load_N,stiffness_N_per_m\n1,2\n", "1 data rows; a fit needs at least 3"),
+    ("# only a comment\n", "no header row"),
+])
+def test_csv_errors(table1, text, message):
+    with pytest.raises(fitting.DataError, match=message):
+        fitting.parse_curve(text, table1, "c.csv")
+
+
+def test_dimensionless_columns(table1):
+    curve = fitting.parse_curve("F_star,K_star\n1e-6,1.04576\n2e-6,2\n3e-6,3\n", table1)
+    np.testing.assert_allclose(curve.loads[0], 22.0)
+    np.testing.assert_allclose(curve.stiffness[0], 1.04576 * 220e9 * 1e-2)
+
+
+def test_cli_fit(tmp_path, capsys, monkeypatch):
+    from jaxcontact.cli import main
+
+    monkeypatch.setenv("JAXCONTACT_CACHE", "")
+    data = str(ROOT / "data" / "table1_grinding_generated.csv")
+    assert main(["fit", data, "--format", "json", "--out", str(tmp_path), "--method", "lm"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    lo, hi = payload["ci95"]["D"]
+    assert lo < TRUTH["D"] < hi and payload["success"]
+    assert (tmp_path / "fit.png").stat().st_size > 10_000
+    assert jax.config.jax_enable_x64
