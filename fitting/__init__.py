@@ -7,9 +7,10 @@ estimates, standard errors, 95 % intervals, correlations and identifiability war
 from .data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
 from .fit import FLAGGED_RESIDUAL, METHODS, FitResult, fit, log_residuals, starting_points
 from .parameters import PARAMETERS, FitParameter, resolve
+from .resonance import fit_resonance
 
 __all__ = [
-    "fit", "FitResult", "METHODS", "FLAGGED_RESIDUAL", "log_residuals", "starting_points",
+    "fit", "fit_resonance", "FitResult", "METHODS", "FLAGGED_RESIDUAL", "log_residuals", "starting_points",
     "PARAMETERS", "FitParameter", "resolve",
     "Curve", "DataError", "load_curve", "parse_curve", "write_curve", "COLUMN_SETS",
 ]

@@ -8,6 +8,7 @@ The package never enables float64 itself: call `jax.config.update("jax_enable_x6
 for double precision (the command line does).
 """
 
+from .approach import Approach, approach
 from .asperity import REGIMES
 from .distribution import wang_komvopoulos_psi
 from .joint import AbstractJoint, JointResponse, Xia2024Joint
@@ -21,7 +22,7 @@ from .status import Status, status_message
 __all__ = [
     "REGIMES", "INTERACTIONS", "MODELS",
     "Surface", "Material", "Scene", "Solution", "Status", "status_message",
-    "solve", "make_joint", "stack_scenes", "wang_komvopoulos_psi",
+    "solve", "approach", "Approach", "make_joint", "stack_scenes", "wang_komvopoulos_psi",
     "AbstractJoint", "JointResponse", "Xia2024Joint", "JZZ2010Joint",
 ]
 __version__ = "0.1.0"

@@ -49,6 +49,9 @@ def cmd_run(args) -> int:
     spec = load_scene(args.scene)
     solution = solve_sweep(spec.scene, spec.loads, progress=args.progress and spec.loads.size > 4096)
     rows = solution_rows(solution)
+    if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
+        for row, extra in zip(rows, _approach_rows(spec)):
+            row["approach_m"] = extra["approach_m"]
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "results.csv")
@@ -58,6 +61,96 @@ def cmd_run(args) -> int:
                f"{spec.scene.distribution!r}; {len(rows)} loads, {flagged} flagged\n\n{format_table(rows)}\n\n"
                + "\n".join(f"wrote {f}" for f in files))
     _print({"title": spec.title, "source": spec.source, "rows": rows, "files": files}, args.format, summary)
+    return 0
+
+
+def _approach_rows(spec):
+    import numpy as np
+
+    from .approach import approach
+    from .status import status_message
+
+    result = approach(spec.scene, spec.loads, spec.approach_reference)
+    return [{"F_N": float(F), "F_star": float(Fs), "approach_m": float(d), "status": status_message(s)}
+            for F, Fs, d, s in zip(spec.loads, spec.load_star, np.asarray(result.approach), np.asarray(result.status))]
+
+
+def _require(spec, effect: str, table: str) -> None:
+    if getattr(spec, effect) is None:
+        raise CommandError(f"{spec.source} does not ask for this effect: add a [{table}] table "
+                           f"(see data/scenes/table1_dynamics.toml)")
+
+
+def cmd_approach(args) -> int:
+    import numpy as np
+
+    from .plots import plot_approach
+    from .report import format_table, write_csv
+    from .scenefile import DYNAMICS_SCENE, load_scene
+
+    spec = load_scene(args.scene, default=DYNAMICS_SCENE)
+    _require(spec, "approach_reference", "approach")
+    rows = _approach_rows(spec)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "approach.csv")
+    files = [str(out / "approach.csv"), plot_approach(spec.load_star, np.array([r["approach_m"] for r in rows]),
+                                                      spec.approach_reference, out / "approach.png")]
+    text = (f"{spec.title}: approach relative to F0 = {spec.approach_reference:g} N\n\n"
+            + format_table(rows, ("F_N", "F_star", "approach_m", "status")) + "\n\n"
+            + "\n".join(f"wrote {f}" for f in files))
+    _print({"title": spec.title, "reference_load_N": spec.approach_reference, "rows": rows, "files": files},
+           args.format, text)
+    return 0
+
+
+def cmd_dynamics(args) -> int:
+    import numpy as np
+
+    from .dynamics import Drive, frequency_response, resonance_frequency, simulate
+    from .plots import plot_dynamics
+    from .report import write_csv
+    from .runner import map_in_chunks
+    from .scenefile import DYNAMICS_SCENE, load_scene
+    from .status import status_message
+
+    spec = load_scene(args.scene, default=DYNAMICS_SCENE)
+    _require(spec, "dynamics", "dynamics")
+    d = spec.dynamics
+    f_linear, status = resonance_frequency(spec.scene, d.mass, np.array([d.preload]))
+    f_linear, status = float(f_linear[0]), int(status[0])
+    if status != 0:
+        raise CommandError(f"the joint has no valid stiffness at the preload {d.preload:g} N ({status_message(status)})")
+    damping = d.damping if d.damping is not None else 2 * d.damping_ratio * d.mass * 2 * np.pi * f_linear
+    drive = Drive(mass=d.mass, damping=damping, preload=d.preload, amplitude=d.amplitude,
+                  frequency=d.frequency or f_linear)
+    history = simulate(spec.scene, drive, periods=20)
+    sweep_hz = np.linspace(*d.sweep, d.sweep_count) * f_linear
+    amplitudes, statuses = map_in_chunks(lambda f: frequency_response(spec.scene, drive, f), sweep_hz, chunk=8,
+                                         progress=args.progress, desc="frequency sweep")
+    peak = int(np.nanargmax(amplitudes))
+    f_res, res_status = (np.asarray(x) for x in resonance_frequency(spec.scene, d.mass, spec.loads))
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv([{"t_s": float(t), "x_m": float(x), "v_m_per_s": float(v), "contact_force_N": float(F)}
+               for t, x, v, F in zip(history.t, history.x, history.v, history.contact_force)], out / "time_history.csv")
+    sweep_rows = [{"frequency_Hz": float(f), "amplitude_m": float(a), "status": status_message(s)}
+                  for f, a, s in zip(sweep_hz, amplitudes, statuses)]
+    write_csv(sweep_rows, out / "frequency_response.csv")
+    resonance_rows = [{"preload_N": float(F), "resonance_Hz": float(f), "status": status_message(s)}
+                      for F, f, s in zip(spec.loads, f_res, res_status)]
+    write_csv(resonance_rows, out / "resonance_vs_preload.csv")
+    files = [str(out / n) for n in ("time_history.csv", "frequency_response.csv", "resonance_vs_preload.csv")]
+    files += plot_dynamics(history, sweep_hz, amplitudes, f_linear, spec.loads, f_res, out)
+    summary = {"title": spec.title, "mass_kg": d.mass, "preload_N": d.preload, "amplitude_N": d.amplitude,
+               "damping_N_s_per_m": damping, "linear_resonance_Hz": f_linear,
+               "sweep_peak_Hz": float(sweep_hz[peak]), "peak_amplitude_m": float(amplitudes[peak]),
+               "frequency_response": sweep_rows, "resonance_vs_preload": resonance_rows, "files": files}
+    text = (f"{spec.title}\nmass {d.mass:g} kg, preload {d.preload:g} N, drive {d.amplitude:g} N, "
+            f"damping {damping:.4g} N s/m\nlinear resonance sqrt(K(F0)/m)/2π = {f_linear:.6g} Hz; "
+            f"sweep peak at {sweep_hz[peak]:.6g} Hz, amplitude {amplitudes[peak]:.4g} m\n"
+            + "\n".join(f"wrote {f}" for f in files))
+    _print(summary, args.format, text)
     return 0
 
 
@@ -136,6 +229,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_grinding.toml)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("approach", help="load–approach curve relative to a preload (scenes with [approach])")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_dynamics.toml)")
+    common(p, "jaxcontact-out/approach")
+    p.set_defaults(func=cmd_approach)
+
+    p = sub.add_parser("dynamics", help="a driven mass on the joint: time history, frequency response, "
+                                        "resonance against preload (scenes with [dynamics])")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_dynamics.toml)")
+    common(p, "jaxcontact-out/dynamics")
+    p.set_defaults(func=cmd_dynamics)
 
     p = sub.add_parser("figures", help="reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
     common(p, "jaxcontact-out/figures")

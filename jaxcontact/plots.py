@@ -67,3 +67,39 @@ def plot_fit(loads, stiffness, fine_loads, fitted_stiffness, legend_lines, path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     return _save(fig, path)
+
+
+def plot_approach(load_star, approach_m, reference_load, path: pathlib.Path) -> str:
+    """The load–approach curve δ(F) − δ(F0) against F* (MODEL.md §6)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ok = np.isfinite(approach_m)
+    ax.semilogx(load_star[ok], 1e9 * approach_m[ok], "o-", ms=3)
+    ax.axhline(0.0, color="k", lw=0.8, ls=":")
+    ax.set(xlabel="F* = F / (E A_a)", ylabel="δ(F) − δ(F0) (nm)", title=f"Load–approach curve (F0 = {reference_load:g} N)")
+    ax.grid(True, which="both", alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_dynamics(history, sweep_hz, sweep_amplitude, f_linear, preloads, resonance_hz, out: pathlib.Path) -> list[str]:
+    """Time history, frequency response and resonance against preload of the dynamic scene."""
+    out.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(1e3 * np.asarray(history.t), 1e9 * np.asarray(history.x))
+    ax.set(xlabel="t (ms)", ylabel="x (nm)", title="Time history at the drive frequency")
+    ax.grid(True, alpha=0.3)
+    paths = [_save(fig, out / "time_history.png")]
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.semilogy(sweep_hz, 1e9 * np.asarray(sweep_amplitude), "o-", ms=3)
+    ax.axvline(f_linear, color="k", ls=":", label=f"sqrt(K(F0)/m)/2π = {f_linear:.5g} Hz")
+    ax.set(xlabel="drive frequency (Hz)", ylabel="steady amplitude (nm)", title="Frequency response")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    paths.append(_save(fig, out / "frequency_response.png"))
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ok = np.isfinite(resonance_hz)
+    ax.loglog(preloads[ok], resonance_hz[ok], "o-", ms=3)
+    ax.set(xlabel="preload F0 (N)", ylabel="resonance frequency (Hz)", title="Resonance against preload")
+    ax.grid(True, which="both", alpha=0.3)
+    paths.append(_save(fig, out / "resonance_vs_preload.png"))
+    return paths

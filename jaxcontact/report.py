@@ -40,8 +40,12 @@ def _cell(value) -> str:
     return "nan" if math.isnan(value) else f"{value:.6g}"
 
 
+HEADERS = {"F_N": "F (N)", "F_star": "F*", "a_l_m2": "a_l (m²)", "K_N_per_m": "K (N/m)", "K_star": "K*",
+           "approach_m": "δ - δ0 (m)"}
+
+
 def format_table(rows: list[dict], columns=("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")) -> str:
-    header = ["F (N)", "F*", "a_l (m²)", "K (N/m)", "K*", "status"] if columns[0] == "F_N" else list(columns)
+    header = [HEADERS.get(c, c) for c in columns]
     cells = [[_cell(r[c]) for c in columns] for r in rows]
     widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(header)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]

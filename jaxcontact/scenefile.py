@@ -8,6 +8,9 @@ title = "..."
 [model]     name ("xia2024" | "jzz2010"), quadrature_nodes, max_steps
 [effects]   interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"), regime_shares (bool)
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
+[approach]  reference_load (N): ask for the load–approach curve relative to this preload
+[dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
+            frequency (Hz; default the linear resonance), sweep = [lo, hi] (× resonance), sweep_count
 ```
 
 Effects are static: a scene that does not ask for one compiles a program without it
@@ -40,8 +43,12 @@ _SCHEMA = {
     "model": {"name": str, "quadrature_nodes": int, "max_steps": int},
     "effects": {"interaction": str, "distribution": str, "regime_shares": bool},
     "loads": {"unit": str, "values": list, "range": list, "count": int},
+    "approach": {"reference_load": float},
+    "dynamics": {"mass": float, "preload": float, "amplitude": float, "damping_ratio": float, "damping": float,
+                 "frequency": float, "sweep": list, "sweep_count": int},
 }
 _REQUIRED = {"surface": ("D", "G"), "material": ("E", "nu", "H"), "joint": ("area",), "loads": ()}
+DYNAMICS_SCENE = "table1_dynamics.toml"
 MAX_LOADS = 10_000_000
 
 
@@ -50,13 +57,30 @@ class SceneFileError(ValueError):
 
 
 @dataclasses.dataclass(frozen=True)
+class DynamicsSpec:
+    """The `[dynamics]` table: the driven mass of `jaxcontact.dynamics`."""
+
+    mass: float
+    preload: float
+    amplitude: float
+    damping_ratio: float | None = None
+    damping: float | None = None
+    frequency: float | None = None
+    sweep: tuple[float, float] = (0.8, 1.2)
+    sweep_count: int = 41
+
+
+@dataclasses.dataclass(frozen=True)
 class SceneFile:
-    """A scene as read from TOML: the `Scene`, the loads (N) and a title."""
+    """A scene as read from TOML: the `Scene`, the loads (N), a title, and the optional effects
+    `approach_reference` (N, the preload of the load–approach curve) and `dynamics`."""
 
     title: str
     scene: Scene
     loads: np.ndarray
     source: str
+    approach_reference: float | None = None
+    dynamics: DynamicsSpec | None = None
 
     @property
     def load_star(self) -> np.ndarray:
@@ -143,14 +167,50 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     except ValueError as exc:
         raise SceneFileError(str(exc)) from None
     loads = _loads(data["loads"], float(material.E), float(scene.area))
-    return SceneFile(title=data.get("title", pathlib.Path(source).stem), scene=scene, loads=loads, source=source)
+    reference = data.get("approach", {}).get("reference_load")
+    if "approach" in data:
+        if reference is None:
+            raise SceneFileError("missing key approach.reference_load (the preload, N, where the approach is zero)")
+        if not (math.isfinite(reference) and reference > 0):
+            raise SceneFileError(f"approach.reference_load = {reference!r} must be > 0 N")
+    return SceneFile(title=data.get("title", pathlib.Path(source).stem), scene=scene, loads=loads, source=source,
+                     approach_reference=None if reference is None else float(reference),
+                     dynamics=_dynamics(data["dynamics"]) if "dynamics" in data else None)
 
 
-def load_scene(path: str | pathlib.Path | None = None) -> SceneFile:
-    """Read a scene file; with no path, the embedded default (Table 1 grinding surface)."""
+def _dynamics(spec: dict) -> DynamicsSpec:
+    for key in ("mass", "preload", "amplitude"):
+        if key not in spec:
+            raise SceneFileError(f"missing key dynamics.{key}")
+        if not spec[key] > 0:
+            raise SceneFileError(f"dynamics.{key} = {spec[key]!r} must be > 0")
+    if not spec["amplitude"] < spec["preload"]:
+        raise SceneFileError(f"dynamics.amplitude = {spec['amplitude']!r} N must be smaller than dynamics.preload = "
+                             f"{spec['preload']!r} N (a larger amplitude would open the joint)")
+    if ("damping_ratio" in spec) == ("damping" in spec):
+        raise SceneFileError("[dynamics] needs exactly one of damping_ratio (ζ) or damping (N s/m)")
+    for key in ("damping_ratio", "damping"):
+        if key in spec and not spec[key] >= 0:
+            raise SceneFileError(f"dynamics.{key} = {spec[key]!r} must be >= 0")
+    if "frequency" in spec and not spec["frequency"] > 0:
+        raise SceneFileError(f"dynamics.frequency = {spec['frequency']!r} must be > 0 Hz")
+    sweep = spec.get("sweep", [0.8, 1.2])
+    if len(sweep) != 2 or not all(isinstance(v, (int, float)) for v in sweep) or not 0 < sweep[0] < sweep[1]:
+        raise SceneFileError(f"dynamics.sweep = {sweep!r} must be [low, high] with 0 < low < high "
+                             "(multiples of the linear resonance frequency)")
+    count = spec.get("sweep_count", 41)
+    if not 2 <= count <= 10_000:
+        raise SceneFileError(f"dynamics.sweep_count = {count!r} must be in [2, 10000]")
+    return DynamicsSpec(mass=float(spec["mass"]), preload=float(spec["preload"]), amplitude=float(spec["amplitude"]),
+                        damping_ratio=spec.get("damping_ratio"), damping=spec.get("damping"),
+                        frequency=spec.get("frequency"), sweep=(float(sweep[0]), float(sweep[1])), sweep_count=count)
+
+
+def load_scene(path: str | pathlib.Path | None = None, default: str = DEFAULT_SCENE) -> SceneFile:
+    """Read a scene file; with no path, an embedded one (`default`: the Table 1 grinding surface)."""
     if path is None:
-        text = importlib.resources.files("jaxcontact").joinpath("scenes", DEFAULT_SCENE).read_text()
-        source = f"<embedded {DEFAULT_SCENE}>"
+        text = importlib.resources.files("jaxcontact").joinpath("scenes", default).read_text()
+        source = f"<embedded {default}>"
     else:
         path = pathlib.Path(path)
         if not path.is_file():

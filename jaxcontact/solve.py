@@ -19,7 +19,7 @@ from jaxtyping import ArrayLike, Float
 
 from ._validate import concrete
 from .dimensionless import nondimensionalise
-from .joint import AbstractJoint, Xia2024Joint
+from .joint import AbstractJoint, JointResponse, Xia2024Joint
 from .jzz2010 import JZZ2010Joint
 from .scene import Scene
 from .solution import Solution
@@ -58,29 +58,44 @@ def _working_dtype(scene: Scene, loads):
     return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
 
 
-@eqx.filter_jit
-def _solve(scene: Scene, loads):
-    joint = make_joint(scene)
-    dtype = loads.dtype
-    tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
-    E, area = scene.material.E, scene.area
-    load_star = loads / (E * area)
+class PointResult(eqx.Module):
+    """One load point, dimensionless: `ln a_l*`, the joint's response there, and the status."""
 
-    # Per-scene quantities, computed once for all loads.
+    log_a_l: jax.Array
+    response: JointResponse
+    status: jax.Array
+
+    @property
+    def stiffness_star(self):
+        """K* where the point is valid, NaN otherwise."""
+        K = jnp.sum(self.response.regime_stiffness, axis=-1)
+        return jnp.where(self.status == Status.OK, K, jnp.nan)
+
+
+def point_solver(scene: Scene):
+    """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
+
+    Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
+    the bracket and the initial-guess secant) is computed here, so that callers that evaluate
+    K(F) many times (`approach`, `dynamics`) pay for it once.
+    """
+    joint = make_joint(scene)
+    dtype = jnp.result_type(joint.log_a_min)
+    tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
+    area = scene.area
     lower, upper = joint.log_a_min, jnp.zeros_like(joint.log_a_min)
     middle = 0.5 * (lower + upper)
     log_load_lowest = jnp.log(joint.total_load(lower))  # -inf for xia2024: any F > 0 is reachable
     log_load_middle = jnp.log(joint.total_load(middle))
     log_load_highest = jnp.log(joint.total_load(upper))
     secant_slope = (upper - middle) / (log_load_highest - log_load_middle)
-
     # Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
     s, m = scene.surface, scene.material
     parameters_valid = ((s.D > 1.0) & (s.D < 2.0) & (s.G > 0) & (s.l_min > 0) & (m.E > 0) & (m.H > 0)
                         & (m.nu >= 0) & (m.nu < 0.5) & (area > 0) & (lower < upper)
                         & jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle))
 
-    def one_point(F_star):
+    def one_point(F_star) -> PointResult:
         valid = jnp.isfinite(F_star) & (F_star > 0)
         log_load = jnp.log(jnp.where(valid, F_star, 1.0))
         in_range = (log_load > log_load_lowest) & (log_load <= log_load_highest)
@@ -96,9 +111,19 @@ def _solve(scene: Scene, loads):
              Status.INTERACTION_BREAKDOWN],
             Status.OK,
         ).astype(jnp.int32)
-        return log_a_l, response, status
+        return PointResult(log_a_l, response, status)
 
-    log_a_l, response, status = jax.vmap(one_point)(load_star.reshape(-1))
+    return one_point
+
+
+@eqx.filter_jit
+def _solve(scene: Scene, loads):
+    dtype = loads.dtype
+    E, area = scene.material.E, scene.area
+    load_star = loads / (E * area)
+    one_point = point_solver(scene)
+    points = jax.vmap(one_point)(load_star.reshape(-1))
+    log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     nan = jnp.array(jnp.nan, dtype)
     solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
@@ -128,6 +153,13 @@ def _solve(scene: Scene, loads):
     )
 
 
+def prepare(scene: Scene, loads):
+    """Check concrete loads, pick the working dtype, and make every float leaf an array of it."""
+    _check_loads(loads)
+    dtype = _working_dtype(scene, loads)
+    return jax.tree.map(lambda x: jnp.asarray(x, dtype), scene), jnp.asarray(loads, dtype)
+
+
 def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
     """Normal contact stiffness of the joint at each load (MODEL.md §4, Eqs. 30–39).
 
@@ -146,7 +178,4 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
 
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
-    _check_loads(loads)
-    dtype = _working_dtype(scene, loads)
-    scene = jax.tree.map(lambda x: jnp.asarray(x, dtype), scene)
-    return _solve(scene, jnp.asarray(loads, dtype))
+    return _solve(*prepare(scene, loads))

@@ -154,3 +154,17 @@ def test_float32_does_not_overflow_at_extreme_D():
         np.testing.assert_array_equal(sol.status, ref.status)
         assert np.all(np.asarray(ref.status) == 0)
         np.testing.assert_allclose(sol.stiffness, ref.stiffness, rtol=1e-4)
+
+
+def test_traced_parameters_outside_their_domain_are_flagged_not_raised():
+    """An optimiser may step to D = 2 exactly: every point says so, and differentiation still runs."""
+    scene = make_scene(**TABLE1)
+
+    def total(D):
+        s = jc.solve(eqx.tree_at(lambda sc: sc.surface.D, scene, D), jnp.array([2.2, 22.0]))
+        return jnp.sum(jnp.where(s.status == 0, s.stiffness, 0.0)), s.status
+
+    for D in (2.0, 1.0, jnp.nan):
+        (value, status), grad = jax.jit(jax.value_and_grad(total, has_aux=True))(jnp.asarray(D))
+        np.testing.assert_array_equal(status, [jc.Status.INVALID_PARAMETERS] * 2)
+        assert float(value) == 0.0

@@ -1,0 +1,66 @@
+"""The load–approach curve (MODEL.md §6) against direct quadrature of 1/K."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+from scipy import integrate
+
+import jaxcontact as jc
+
+LOADS = jnp.array([2.2, 7.0, 22.0, 70.0, 220.0, 2200.0])
+F0 = 22.0
+
+
+def quadrature(scene, F, F0):
+    """∫_{F0}^{F} dF'/K(F') by scipy quad in ln F, K from `solve`."""
+    def integrand(log_F):
+        return np.exp(log_F) / float(jc.solve(scene, np.exp(log_F)).stiffness)
+    value, _ = integrate.quad(integrand, np.log(F0), np.log(F), epsrel=1e-11, epsabs=0.0, limit=200)
+    return value
+
+
+@pytest.mark.parametrize("model", ["xia2024", "jzz2010"])
+def test_matches_quadrature_of_inverse_stiffness(model):
+    scene = make_scene(**TABLE1, model=model)
+    result = jc.approach(scene, LOADS, F0)
+    assert np.all(np.asarray(result.status) == 0)
+    expected = [quadrature(scene, float(F), F0) for F in LOADS]
+    np.testing.assert_allclose(result.approach, expected, rtol=1e-8, atol=1e-22)
+    assert float(result.approach[2]) == 0.0
+
+
+def test_monotone_in_load(table1_scene):
+    loads = jnp.geomspace(2.2, 2200.0, 31)
+    delta = np.asarray(jc.approach(table1_scene, loads, 220.0).approach)
+    assert np.all(np.diff(delta) > 0)
+    assert delta[0] < 0 < delta[-1]
+
+
+def test_gradients_match_finite_differences(table1_scene):
+    @jax.jit
+    def delta(theta):
+        scene = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), table1_scene, (theta[0], theta[1]))
+        return jc.approach(scene, jnp.array([2.2, 2200.0]), F0).approach
+
+    theta = jnp.array([TABLE1["D"], TABLE1["G"]])
+    jac = jax.jacrev(delta)(theta)
+    # Relative steps large enough that the ODE tolerance (1e-10 of δ) is not what is measured.
+    for j, step in enumerate((1e-5, 1e-4)):
+        e = jnp.zeros(2).at[j].set(step * theta[j])
+        fd = (delta(theta + e) - delta(theta - e)) / (2 * e[j])
+        np.testing.assert_allclose(jac[:, j], fd, rtol=1e-5, err_msg="DG"[j])
+
+
+def test_flagged_points():
+    scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9)  # 1130 N breaks down with "paper"
+    result = jc.approach(scene, jnp.array([1.13, 113.0, 1130.0]), 11.3)
+    np.testing.assert_array_equal(result.status, [0, 0, jc.Status.INTERACTION_BREAKDOWN])
+    assert np.all(np.isfinite(np.asarray(result.approach)[:2])) and np.isnan(float(result.approach[2]))
+
+
+def test_bad_reference_load(table1_scene):
+    with pytest.raises(ValueError, match="not a valid load"):
+        jc.approach(table1_scene, LOADS, -1.0)

@@ -1,0 +1,100 @@
+"""The driven mass on the joint (diffrax), and fitting D and G from resonance against preload."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import fitting
+import jaxcontact as jc
+from jaxcontact.dynamics import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
+
+MASS, PRELOAD = 1.0, 220.0
+
+
+@pytest.fixture(scope="module")
+def linear_frequency(table1_scene):
+    f, status = resonance_frequency(table1_scene, MASS, jnp.array([PRELOAD]))
+    assert int(status[0]) == 0
+    return float(f[0])
+
+
+def drive(f, zeta=0.05, amplitude=0.2):
+    return Drive(mass=MASS, damping=2 * zeta * MASS * 2 * np.pi * f, preload=PRELOAD, amplitude=amplitude, frequency=f)
+
+
+def test_linear_resonance_is_sqrt_K_over_m(table1_scene, linear_frequency):
+    K = float(jc.solve(table1_scene, PRELOAD).stiffness)
+    np.testing.assert_allclose(linear_frequency, np.sqrt(K / MASS) / (2 * np.pi), rtol=1e-13)
+
+
+def test_small_amplitude_response_peaks_at_the_linear_frequency(table1_scene, linear_frequency):
+    ratios = np.linspace(0.96, 1.04, 9)
+    amplitudes, status = frequency_response(table1_scene, drive(linear_frequency), ratios * linear_frequency)
+    assert np.all(np.asarray(status) == 0)
+    A = np.log(np.asarray(amplitudes))
+    i = int(np.argmax(A))
+    assert 0 < i < len(A) - 1
+    # Parabola through the three highest points: the resonance frequency.
+    a, b, _ = np.polyfit(ratios[i - 1:i + 2], A[i - 1:i + 2], 2)
+    peak = -b / (2 * a)
+    # Damped peak of the linear oscillator: sqrt(1 - 2ζ²) = 0.9975 of the natural frequency.
+    assert abs(peak - 1.0) < 0.01, peak
+    # ... and its height is the linear one, F1 / (K 2ζ sqrt(1-ζ²)).
+    K = float(jc.solve(table1_scene, PRELOAD).stiffness)
+    np.testing.assert_allclose(np.exp(A.max()), 0.2 / K / (2 * 0.05), rtol=2e-3)
+
+
+def test_time_history_is_consistent(table1_scene, linear_frequency):
+    response = simulate(table1_scene, drive(linear_frequency, amplitude=100.0), periods=30)
+    assert int(response.status) == 0
+    F = np.asarray(response.contact_force)
+    assert np.all(F > 0) and abs(F.max() - F.min()) > 50  # a large, still closed, oscillation
+    # dF_c/dt = K(F_c) v: check at the saved points by finite differences of F_c.
+    t, v = np.asarray(response.t), np.asarray(response.v)
+    dF = np.gradient(F, t)
+    K = np.asarray(jc.solve(table1_scene, jnp.asarray(F)).stiffness)
+    np.testing.assert_allclose(dF[5:-5], (K * v)[5:-5], rtol=2e-2, atol=2e-2 * np.abs(K * v).max())
+
+
+def test_gradient_of_steady_amplitude(table1_scene, linear_frequency):
+    d = drive(0.97 * linear_frequency)
+
+    @jax.jit
+    def amplitude(D):
+        return steady_amplitude(eqx.tree_at(lambda s: s.surface.D, table1_scene, D), d, periods=60, rtol=1e-11)[0]
+
+    g = jax.grad(amplitude)(jnp.asarray(TABLE1["D"]))
+    h = 1e-5
+    fd = (amplitude(TABLE1["D"] + h) - amplitude(TABLE1["D"] - h)) / (2 * h)
+    assert abs(float(g)) > 0
+    np.testing.assert_allclose(g, fd, rtol=1e-4)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(amplitude=300.0), r"amplitude = .* must satisfy 0 < amplitude < preload"),
+    (dict(mass=0.0), r"mass .*\(0, inf\)"),
+    (dict(damping=-1.0), r"damping .*\[0, inf\)"),
+])
+def test_drive_validation(kw, message):
+    with pytest.raises(ValueError, match=message):
+        Drive(**(dict(mass=1.0, damping=10.0, preload=PRELOAD, amplitude=0.2, frequency=1e4) | kw))
+
+
+def test_fit_D_and_G_from_resonance_against_preload(table1_scene):
+    preloads = np.geomspace(1e-10, 1e-4, 30) * TABLE1["E"] * TABLE1["area"]
+    f, status = resonance_frequency(table1_scene, MASS, preloads)
+    assert np.all(np.asarray(status) == 0)
+    start = make_scene(**dict(TABLE1, D=1.55, G=1e-9))
+    exact = fitting.fit_resonance(preloads, np.asarray(f), MASS, start)
+    np.testing.assert_allclose([exact.values["D"], exact.values["G"]], [TABLE1["D"], TABLE1["G"]], rtol=1e-6)
+    noisy = np.asarray(f) * np.exp(0.01 * np.random.default_rng(3).standard_normal(f.shape))  # 1 % in frequency
+    result = fitting.fit_resonance(preloads, noisy, MASS, start)
+    for name in ("D", "G"):
+        lo, hi = result.ci95[name]
+        assert lo < TABLE1[name] < hi
+    assert abs(result.values["D"] - TABLE1["D"]) < 0.01
+    with pytest.raises(ValueError, match="mass = 0"):
+        fitting.fit_resonance(preloads, np.asarray(f), 0, start)
