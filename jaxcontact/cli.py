@@ -216,6 +216,26 @@ def cmd_fit(args) -> int:
     return 0 if result.success else 1
 
 
+def cmd_accuracy(args) -> int:
+    from .accuracy import format_study, plot_study, study
+    from .scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    if spec.scene.model != "xia2024" or spec.scene.distribution != "mb":
+        raise CommandError("the accuracy study needs a scene with model 'xia2024' and distribution 'mb'")
+    progress = None
+    if args.progress:
+        from tqdm.auto import tqdm
+
+        progress = lambda items: tqdm(items, desc="knobs", unit="knob")  # noqa: E731
+    result = study(spec.scene, progress=progress)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = [plot_study(result, out / "accuracy.png")]
+    _print({**result, "files": files}, args.format, format_study(result) + "\n\n" + "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -253,6 +273,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
+
+    p = sub.add_parser("accuracy", help="error against time for every accuracy knob (reference: mpmath)")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")
+    common(p, "jaxcontact-out")
+    p.set_defaults(func=cmd_accuracy)
 
     p = sub.add_parser("bench", help="time the compiled model: each effect's cost, speed against scipy")
     p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")

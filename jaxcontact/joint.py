@@ -26,7 +26,7 @@ from .dimensionless import DimensionlessScene
 from .distribution import size_distribution
 from .interaction import INTERACTION_SIGNS, breakdown_log_area, interaction_ratio, stiffness_without_interaction
 from .powerlaw import PowerLaw
-from .quadrature import integrate_log_area
+from .quadrature import integrate_rows
 
 # Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
 # not jnp arrays: a module-level array would freeze the precision that was active at import.
@@ -75,9 +75,12 @@ class Xia2024Joint(AbstractJoint):
     interference_law: PowerLaw
     interaction: str = eqx.field(static=True)
     quadrature_nodes: int = eqx.field(static=True)
+    quadrature: str = eqx.field(static=True, default="gauss-legendre")
+    quadrature_tolerance: float = eqx.field(static=True, default=1e-10)
 
     @classmethod
-    def from_dimensionless(cls, s: DimensionlessScene, interaction: str, quadrature_nodes: int):
+    def from_dimensionless(cls, s: DimensionlessScene, interaction: str, quadrature_nodes: int,
+                           quadrature: str = "gauss-legendre", quadrature_tolerance: float = 1e-10):
         return cls(
             D=s.D,
             log_a_min=s.log_a_min,
@@ -87,6 +90,8 @@ class Xia2024Joint(AbstractJoint):
             interference_law=interference(s.D, s.log_G),
             interaction=interaction,
             quadrature_nodes=quadrature_nodes,
+            quadrature=quadrature,
+            quadrature_tolerance=quadrature_tolerance,
         )
 
     def intervals(self, log_a_l):
@@ -121,13 +126,16 @@ class Xia2024Joint(AbstractJoint):
         # At a breakdown point the value is discarded; a zero ratio keeps its gradient finite
         # so that one bad point cannot poison the gradient of a batch.
         ratio = PowerLaw(jnp.where(breakdown, -jnp.inf, ratio.log_coeff), ratio.exponent)
-        density, r = integrand.expanded(), ratio.expanded()
 
-        def correction(t):
-            sr = sign * r(t)
-            return density(t) * jnp.exp(t) * (-sr / (1.0 + sr))
+        def correction(t, density_log_coeff, density_exponent, ratio_log_coeff, ratio_exponent):
+            # k₀ n a (1/(1 ± r) - 1), with respect to t = ln a
+            sr = sign * jnp.exp(ratio_log_coeff + ratio_exponent * t)
+            return jnp.exp(density_log_coeff + (density_exponent + 1.0) * t) * (-sr / (1.0 + sr))
 
-        return closed_form + integrate_log_area(correction, lower, upper, self.quadrature_nodes) * has_stiffness, breakdown
+        rows = (integrand.log_coeff, integrand.exponent, ratio.log_coeff, ratio.exponent)
+        interaction_part = integrate_rows(correction, rows, lower, upper, method=self.quadrature,
+                                          nodes=self.quadrature_nodes, tolerance=self.quadrature_tolerance)
+        return closed_form + interaction_part * has_stiffness, breakdown
 
     def real_area(self, log_a_l):
         """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""

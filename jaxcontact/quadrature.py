@@ -9,8 +9,12 @@ from __future__ import annotations
 
 import functools
 
+import jax
 import jax.numpy as jnp
 import numpy as np
+import quadax
+
+QUADRATURES = ("gauss-legendre", "adaptive")
 
 
 @functools.lru_cache(maxsize=None)
@@ -34,3 +38,27 @@ def integrate_log_area(integrand, log_lower, log_upper, nodes: int):
     mid = 0.5 * (log_upper + log_lower)[..., None]
     t = mid + half * jnp.asarray(x, dtype=half.dtype)
     return jnp.sum(jnp.asarray(w, dtype=half.dtype) * integrand(t), axis=-1) * half[..., 0]
+
+
+def integrate_rows(integrand, row_args, log_lower, log_upper, *, method: str, nodes: int, tolerance: float):
+    """`∫ integrand(t, *row_args[i]) dt` over `[log_lower[i], log_upper[i]]`, one result per row.
+
+    **Arguments:**
+
+    - `integrand`: elementwise in `t` and in the row arguments (it broadcasts).
+    - `row_args`: tuple of arrays with one entry per row (the regime's coefficients).
+    - `method`: "gauss-legendre" (fixed `nodes` per row, the default) or "adaptive" (quadax's
+      Gauss–Kronrod `quadgk`, to relative `tolerance`, vmapped over the rows).
+    """
+    if method == "gauss-legendre":
+        expanded = tuple(a[..., None] for a in row_args)
+        return integrate_log_area(lambda t: integrand(t, *expanded), log_lower, log_upper, nodes)
+    nonempty = log_upper > log_lower
+    upper = jnp.where(nonempty, log_upper, log_lower + 1.0)  # quadgk wants a proper interval
+
+    def one_row(lo, hi, *args):
+        value, _ = quadax.quadgk(integrand, jnp.stack([lo, hi]), args=args, epsabs=0.0, epsrel=tolerance,
+                                 max_ninter=100)
+        return value
+
+    return jnp.where(nonempty, jax.vmap(one_row)(log_lower, upper, *row_args), 0.0)

@@ -7,6 +7,7 @@ import equinox as eqx
 from ._validate import as_float, check_choice, check_range, concrete
 from .distribution import DISTRIBUTIONS
 from .interaction import INTERACTION_SIGNS
+from .quadrature import QUADRATURES
 from .parameters import Material, Parameter, Surface
 
 MODELS = ("xia2024", "jzz2010")
@@ -29,6 +30,8 @@ class Scene(eqx.Module):
     - `regime_shares`: whether to split load and stiffness by regime (`Solution.load_share`,
       `stiffness_share`); with False those fields are None and nothing is spent on them.
     - `quadrature_nodes`: Gauss–Legendre nodes per regime for the interaction stiffness (static).
+    - `quadrature`: "gauss-legendre" (fixed nodes, default) or "adaptive" (quadax Gauss–Kronrod to
+      relative `quadrature_tolerance`); see `jaxcontact accuracy` for what each costs.
     - `max_steps`: cap on the a_l solve's Newton/bisection steps (static).
     - `solver_tolerance`: tolerance on `ln a_l`; `None` picks 64 ε of the working dtype (static).
 
@@ -45,12 +48,14 @@ class Scene(eqx.Module):
     distribution: str = eqx.field(static=True)
     regime_shares: bool = eqx.field(static=True)
     quadrature_nodes: int = eqx.field(static=True)
+    quadrature: str = eqx.field(static=True)
+    quadrature_tolerance: float = eqx.field(static=True)
     max_steps: int = eqx.field(static=True)
     solver_tolerance: float | None = eqx.field(static=True)
 
     def __init__(self, surface: Surface, material: Material, area, model: str = "xia2024",
                  interaction: str | None = None, distribution: str = "mb", regime_shares: bool = True,
-                 quadrature_nodes: int = 48,
+                 quadrature_nodes: int = 48, quadrature: str = "gauss-legendre", quadrature_tolerance: float = 1e-10,
                  max_steps: int = 64, solver_tolerance: float | None = None):
         if not isinstance(surface, Surface):
             raise ValueError(f"surface must be a jaxcontact.Surface, got {type(surface).__name__}")
@@ -68,6 +73,9 @@ class Scene(eqx.Module):
             raise ValueError(f"regime_shares = {regime_shares!r} must be true or false")
         if not isinstance(quadrature_nodes, int) or not 2 <= quadrature_nodes <= 1024:
             raise ValueError(f"quadrature_nodes = {quadrature_nodes!r} must be an integer in [2, 1024]")
+        check_choice("quadrature", quadrature, QUADRATURES)
+        if not 0.0 < quadrature_tolerance < 1e-1:
+            raise ValueError(f"quadrature_tolerance = {quadrature_tolerance!r} must be in (0, 0.1)")
         if not isinstance(max_steps, int) or not 1 <= max_steps <= 10_000:
             raise ValueError(f"max_steps = {max_steps!r} must be an integer in [1, 10000]")
         if solver_tolerance is not None and not 0.0 < solver_tolerance < 1e-2:
@@ -80,6 +88,8 @@ class Scene(eqx.Module):
         self.distribution = distribution
         self.regime_shares = regime_shares
         self.quadrature_nodes = quadrature_nodes
+        self.quadrature = quadrature
+        self.quadrature_tolerance = quadrature_tolerance
         self.max_steps = max_steps
         self.solver_tolerance = solver_tolerance
 

@@ -31,7 +31,8 @@ def make_joint(scene: Scene) -> AbstractJoint:
     """The dimensionless joint model that `scene` asks for."""
     s = nondimensionalise(scene)
     if scene.model == "xia2024":
-        return Xia2024Joint.from_dimensionless(s, scene.interaction, scene.quadrature_nodes)
+        return Xia2024Joint.from_dimensionless(s, scene.interaction, scene.quadrature_nodes, scene.quadrature,
+                                               scene.quadrature_tolerance)
     return JZZ2010Joint.from_dimensionless(s)
 
 

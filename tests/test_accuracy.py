@@ -1,0 +1,35 @@
+"""The accuracy study and its high-precision reference."""
+
+import csv
+
+import numpy as np
+from conftest import CHECKPOINTS, TABLE1, make_scene
+
+from jaxcontact import reference
+from jaxcontact.accuracy import _dominates, study
+
+
+def test_mpmath_reference_matches_the_conformance_vectors():
+    rows = [r for r in csv.DictReader(open(CHECKPOINTS))
+            if r["model"] == "xia2024" and r["distribution"] == "mb" and r["status"] == "ok"][::4]
+    assert len(rows) >= 8
+    for r in rows:
+        K, a_l = reference.stiffness(*(float(r[k]) for k in "D G E nu H area l_min load_N".split()), r["interaction"])
+        np.testing.assert_allclose([K, a_l], [float(r["stiffness_N_per_m"]), float(r["a_l_m2"])], rtol=1e-8)
+
+
+def test_quick_study_orders_the_node_counts():
+    result = study(make_scene(**TABLE1), quick=True)
+    errors = {r["knob"]: r["max_rel_error"] for r in result["rows"]}
+    four, sixteen, default = (errors[f"Gauss–Legendre, {n} nodes"] for n in (4, 16, 48))
+    assert four > 1e-4 > sixteen > default  # near breakdown 4 nodes are visibly wrong
+    assert default < 1e-13
+    assert [r["default"] for r in result["rows"]] == [False, False, True]
+    assert all(r["ms_per_1000_loads"] > 0 for r in result["rows"])
+
+
+def test_pareto_dominance_ignores_round_off():
+    fast = dict(max_rel_error=3e-15, ms_per_1000_loads=1.0)
+    slow = dict(max_rel_error=2e-15, ms_per_1000_loads=2.0)
+    assert _dominates(fast, slow) and not _dominates(slow, fast)
+    assert not _dominates(fast, dict(fast))
