@@ -25,12 +25,13 @@ from .asperity import interference, regime_edges, regime_load_laws
 from .dimensionless import DimensionlessScene
 from .distribution import size_distribution
 from .interaction import INTERACTION_SIGNS, breakdown_log_area, interaction_ratio, stiffness_without_interaction
-from .powerlaw import PowerLaw
+from .powerlaw import PowerLaw, exponential_integral
 from .quadrature import integrate_rows
 
 # Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
 # not jnp arrays: a module-level array would freeze the precision that was active at import.
 _HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
+_GEOMETRIC_TERMS = 4  # powers of r taken in closed form before the remainder (see regime_stiffness)
 
 
 class JointResponse(eqx.Module):
@@ -109,7 +110,19 @@ class Xia2024Joint(AbstractJoint):
         return (self.load_laws * self.distribution(log_a_l)).integral(lower, upper)
 
     def regime_stiffness(self, log_a_l, log_load):
-        """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag."""
+        """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
+
+        Without interaction: closed forms. With interaction `k = k₀/(1 ± r)`, `k₀ = f'/ξ'`, and the
+        interaction part `∫ k₀ n (1/(1 ± r) - 1) da` is integrated as follows.
+
+        - "series" (`-r/(1+r)`, bounded, no real pole): Gauss–Legendre in `t = ln a`.
+        - "paper" (`r/(1-r)`, a pole where r = 1, i.e. at breakdown): near breakdown the pole sits
+          at the end of the interval and no quadrature in `t` converges. So
+          `r/(1-r) = Σ_{j=1..k} r^j + r^(k+1)/(1-r)`: the powers of r are power laws (closed
+          forms), and in the remainder `u = r(a)`, `w = -ln(1-u)` turn the integrand into
+          `u^(δ/e + k) dw`, bounded and smooth, over an interval that grows only like
+          `-ln(1 - r_max)` as the pole approaches. `δ/e + k ≥ 2` in every regime for k = 4.
+        """
         lower, upper = self.intervals(log_a_l)
         has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
         integrand = stiffness_without_interaction(self.load_laws, self.interference_law) * self.distribution(log_a_l)
@@ -123,19 +136,39 @@ class Xia2024Joint(AbstractJoint):
             breakdown = jnp.any(nonempty & (breakdown_log_area(ratio) <= upper))
         else:
             breakdown = jnp.array(False)
-        # At a breakdown point the value is discarded; a zero ratio keeps its gradient finite
-        # so that one bad point cannot poison the gradient of a batch.
-        ratio = PowerLaw(jnp.where(breakdown, -jnp.inf, ratio.log_coeff), ratio.exponent)
+        # At a breakdown point the value is discarded; a tiny ratio keeps every number (and
+        # gradient) finite, so that one bad point cannot poison the gradient of a batch.
+        ratio = PowerLaw(jnp.where(breakdown, -200.0, ratio.log_coeff), ratio.exponent)
+        # Plastic spots have no stiffness: only the first three rows are integrated.
+        rows = slice(0, 3)
+        density_log, density_rate = integrand.log_coeff[rows], integrand.exponent[rows] + 1.0
+        ratio_log, ratio_rate = ratio.log_coeff[rows], ratio.exponent[rows]
+        lo, hi = lower[rows], upper[rows]
+        options = dict(method=self.quadrature, nodes=self.quadrature_nodes, tolerance=self.quadrature_tolerance)
+        if sign > 0:
+            def series_correction(t, d_log, d_rate, r_log, r_rate):
+                r = jnp.exp(r_log + r_rate * t)
+                return jnp.exp(d_log + d_rate * t) * (-r / (1.0 + r))
 
-        def correction(t, density_log_coeff, density_exponent, ratio_log_coeff, ratio_exponent):
-            # k₀ n a (1/(1 ± r) - 1), with respect to t = ln a
-            sr = sign * jnp.exp(ratio_log_coeff + ratio_exponent * t)
-            return jnp.exp(density_log_coeff + (density_exponent + 1.0) * t) * (-sr / (1.0 + sr))
+            part = integrate_rows(series_correction, (density_log, density_rate, ratio_log, ratio_rate), lo, hi,
+                                  **options)
+        else:
+            powers = jnp.arange(1, _GEOMETRIC_TERMS + 1, dtype=lo.dtype)[:, None]
+            part = jnp.sum(exponential_integral(density_log + powers * ratio_log, density_rate + powers * ratio_rate,
+                                                lo, hi), axis=0)
+            w_lo = -jnp.log1p(-jnp.exp(ratio_log + ratio_rate * lo))
+            w_hi = -jnp.log1p(-jnp.exp(ratio_log + ratio_rate * hi))
+            remainder_log = density_log - density_rate * ratio_log / ratio_rate - jnp.log(ratio_rate)
+            remainder_power = density_rate / ratio_rate + _GEOMETRIC_TERMS
 
-        rows = (integrand.log_coeff, integrand.exponent, ratio.log_coeff, ratio.exponent)
-        interaction_part = integrate_rows(correction, rows, lower, upper, method=self.quadrature,
-                                          nodes=self.quadrature_nodes, tolerance=self.quadrature_tolerance)
-        return closed_form + interaction_part * has_stiffness, breakdown
+            def remainder(w, log_coeff, power):
+                # u^power with u = 1 - e^(-w); u = 0 only on an empty interval (w = 0).
+                u = -jnp.expm1(-w)
+                positive = u > 0
+                return jnp.where(positive, jnp.exp(log_coeff + power * jnp.log(jnp.where(positive, u, 1.0))), 0.0)
+
+            part = part + integrate_rows(remainder, (remainder_log, remainder_power), w_lo, w_hi, **options)
+        return closed_form + jnp.concatenate([part, jnp.zeros_like(part[:1])]), breakdown
 
     def real_area(self, log_a_l):
         """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""

@@ -168,3 +168,22 @@ def test_traced_parameters_outside_their_domain_are_flagged_not_raised():
         (value, status), grad = jax.jit(jax.value_and_grad(total, has_aux=True))(jnp.asarray(D))
         np.testing.assert_array_equal(status, [jc.Status.INVALID_PARAMETERS] * 2)
         assert float(value) == 0.0
+
+
+@pytest.mark.parametrize("D, G, E, nu, H", [(1.4058, 2.2826e-10, 220e9, 0.25, 100e9), (1.75, 5e-11, 7e10, 0.33, 1.2e9)])
+def test_paper_interaction_stays_accurate_right_up_to_breakdown(D, G, E, nu, H):
+    """The pole of 1/(1 - r) reaches the stiffness range at breakdown; K must stay exact up to it."""
+    from scipy import optimize
+
+    from jaxcontact import reference
+
+    scene = make_scene(D, G, E, nu, H, 1e-4, 1e-9)
+    run = jax.jit(lambda F: jc.solve(scene, F).status)
+    log_breakdown = optimize.brentq(lambda lf: 0.5 - float(run(jnp.exp(lf)) == 2), np.log(1e-9 * E * 1e-4),
+                                    np.log(1e-1 * E * 1e-4), xtol=1e-13)
+    loads = np.exp(log_breakdown) * np.array([0.5, 0.99, 0.999, 0.9999])
+    sol = jc.solve(scene, jnp.asarray(loads))
+    assert np.all(np.asarray(sol.status) == 0)
+    exact = [reference.stiffness(D, G, E, nu, H, 1e-4, 1e-9, F)[0] for F in loads]
+    np.testing.assert_allclose(sol.stiffness, exact, rtol=1e-10)
+    assert int(jc.solve(scene, np.exp(log_breakdown) * 1.0001).status) == jc.Status.INTERACTION_BREAKDOWN
