@@ -1,23 +1,39 @@
-"""Timings of the compiled model: what each effect costs, and the speed against the scipy baseline.
+"""`jaxcontact bench`: timings of the compiled model, each as a ratio measured in this run.
 
-Every figure is measured in this run on this machine, after compilation, as the best of
-several repeats; ratios are printed rather than asserted (timings are not tests).
+Against the plain scipy implementation (`scipy_baseline`: quad + brentq, what a user would
+otherwise write): a 200-load curve, the gradient of a fitting loss (against finite differences
+of the baseline), and a full D/G fit (against `scipy.optimize.least_squares` on the baseline).
+Also: compile time, throughput over 1e5 loads with and without interaction, what each effect
+costs, and the persistent compilation cache of the CLI. Times are after compilation, best of
+several repeats; nothing here is asserted (timings are not tests).
 """
 
 from __future__ import annotations
 
+import math
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
 import time
 
+import equinox as eqx
 import jax
+import jax.numpy as jnp
 import numpy as np
+from scipy import optimize
 
 from .scene import Scene
 from .scipy_baseline import BaselineParameters, solve_curve
 from .solve import solve
 
+TARGETS = {"curve_speedup": 1000.0, "gradient_over_forward": 5.0, "fit_seconds": 1.0, "points_per_s_no_interaction": 1e6,
+           "compile_seconds": 3.0}
 
-def _best_of(fn, repeats=5):
-    best = np.inf
+
+def best_of(fn, repeats=5) -> float:
+    best = math.inf
     for _ in range(repeats):
         t = time.perf_counter()
         jax.block_until_ready(fn())
@@ -25,24 +41,112 @@ def _best_of(fn, repeats=5):
     return best
 
 
-def time_scene(scene: Scene, loads) -> dict:
-    """Compile time and run time (s) of `solve` for this scene and these loads."""
-    loads = np.asarray(loads, dtype=float)
-    t = time.perf_counter()
-    jax.block_until_ready(solve(scene, loads))
-    first = time.perf_counter() - t
-    run = _best_of(lambda: solve(scene, loads))
-    return {"compile_s": first - run, "run_s": run, "points_per_s": loads.size / run}
+def _arrays(scene: Scene) -> Scene:
+    return jax.tree.map(jnp.asarray, scene)
 
 
-def _baseline_params(scene: Scene) -> BaselineParameters:
+def _baseline(scene: Scene, **changes) -> BaselineParameters:
     s, m = scene.surface, scene.material
-    return BaselineParameters(float(s.D), float(s.G), float(m.E), float(m.nu), float(m.H), float(scene.area),
-                              float(s.l_min), scene.model, scene.interaction, scene.distribution)
+    values = dict(D=float(s.D), G=float(s.G), E=float(m.E), nu=float(m.nu), H=float(m.H), area=float(scene.area),
+                  l_min=float(s.l_min), model=scene.model, interaction=scene.interaction, distribution=scene.distribution)
+    return BaselineParameters(**{**values, **changes})
 
 
-def effects_table(scene: Scene, loads) -> list[dict]:
+def time_scene(scene: Scene, loads) -> dict:
+    """Compile time and run time (s) of `jax.jit(solve)` for this scene and these loads."""
+    run = jax.jit(solve)
+    scene, loads = _arrays(scene), jnp.asarray(loads)
+    t = time.perf_counter()
+    jax.block_until_ready(run(scene, loads))
+    first = time.perf_counter() - t
+    seconds = best_of(lambda: run(scene, loads))
+    return {"compile_s": max(first - seconds, 0.0), "run_s": seconds, "points_per_s": loads.size / seconds}
+
+
+def curve(scene: Scene) -> dict:
+    loads = np.geomspace(1e-7, 1e-4, 200) * float(scene.material.E) * float(scene.area)
+    t = time.perf_counter()
+    solve_curve(_baseline(scene), loads)
+    scipy_s = time.perf_counter() - t
+    jax_s = time_scene(scene, loads)["run_s"]
+    return {"points": 200, "scipy_s": scipy_s, "jaxcontact_s": jax_s, "speedup": scipy_s / jax_s}
+
+
+def _data(scene: Scene, n=30):
+    loads = np.geomspace(1e-10, 1e-4, n) * float(scene.material.E) * float(scene.area)
+    return loads, np.asarray(solve(scene, loads).stiffness) * np.exp(0.05 * np.random.default_rng(0).standard_normal(n))
+
+
+def gradient(scene: Scene) -> dict:
+    """Loss = mean squared log-stiffness residual over 30 points, as a function of (D, ln G)."""
+    loads, K = _data(scene)
+    F, log_K = jnp.asarray(loads), jnp.log(jnp.asarray(K))
+    base = _arrays(scene)
+
+    def loss(theta):
+        s = eqx.tree_at(lambda sc: (sc.surface.D, sc.surface.G), base, (theta[0], jnp.exp(theta[1])))
+        r = jnp.log(solve(s, F).stiffness) - log_K
+        return jnp.mean(r * r)
+
+    theta = jnp.array([float(scene.surface.D) + 0.01, math.log(float(scene.surface.G)) + 0.1])
+    forward, value_and_grad = jax.jit(loss), jax.jit(jax.value_and_grad(loss))
+    jax.block_until_ready(forward(theta))
+    jax.block_until_ready(value_and_grad(theta))
+    forward_s = best_of(lambda: forward(theta))
+    grad_s = best_of(lambda: value_and_grad(theta))
+
+    def baseline_loss(th):
+        _, K_model, _, _ = solve_curve(_baseline(scene, D=th[0], G=math.exp(th[1])), loads)
+        return float(np.mean((np.log(K_model) - np.log(K)) ** 2))
+
+    t = time.perf_counter()
+    h = 1e-6
+    [baseline_loss(np.asarray(theta) + s * h * e) for e in np.eye(2) for s in (1, -1)]
+    baseline_loss(np.asarray(theta))
+    fd_s = time.perf_counter() - t
+    return {"points": 30, "forward_s": forward_s, "value_and_grad_s": grad_s, "gradient_over_forward": grad_s / forward_s,
+            "scipy_finite_difference_s": fd_s, "speedup": fd_s / grad_s}
+
+
+def fit(scene: Scene) -> dict:
+    import fitting
+
+    loads, K = _data(scene)
+    start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (1.5, 1e-9))
+    fitting.fit(loads, K, start, method="lm")  # compile
+    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    t = time.perf_counter()
+    ours = fitting.fit(loads, K, start, method="lm")
+    multi_s = time.perf_counter() - t
+    t = time.perf_counter()
+    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    single_s = time.perf_counter() - t
+
+    def residuals(th):
+        _, K_model, _, _ = solve_curve(_baseline(scene, D=th[0], G=math.exp(th[1])), loads)
+        return np.log(np.where(np.isfinite(K_model), K_model, 1.0)) - np.log(K)
+
+    t = time.perf_counter()
+    ls = optimize.least_squares(residuals, [1.5, math.log(1e-9)], bounds=([1.01, math.log(1e-15)], [1.99, math.log(1e-6)]),
+                                x_scale="jac")
+    scipy_s = time.perf_counter() - t
+    return {"points": 30, "jaxcontact_12_starts_s": multi_s, "jaxcontact_1_start_s": single_s, "scipy_least_squares_s": scipy_s,
+            "speedup_1_start": scipy_s / single_s, "D_jaxcontact": ours.values["D"], "D_scipy": float(ls.x[0])}
+
+
+def throughput(scene: Scene, n: int = 100_000) -> dict:
+    loads = np.geomspace(1e-7, 1e-4, n) * float(scene.material.E) * float(scene.area)
+    out = {}
+    for label, interaction in (("no_interaction", "none"), ("interaction_" + scene.interaction, scene.interaction)):
+        variant = Scene(scene.surface, scene.material, scene.area, model=scene.model, interaction=interaction,
+                        distribution=scene.distribution, regime_shares=False)
+        out[label] = time_scene(variant, loads)
+    return out
+
+
+def effects_table(scene: Scene, n: int = 20_000) -> list[dict]:
     """The same joint with each effect switched on and off: compile and run time of each variant."""
+    loads = np.geomspace(1e-7, 1e-4, n) * float(scene.material.E) * float(scene.area)
     variants = [("no interaction, no regime shares", dict(interaction="none", regime_shares=False)),
                 ("no interaction", dict(interaction="none")),
                 ("interaction 'series'", dict(interaction="series")),
@@ -56,11 +160,60 @@ def effects_table(scene: Scene, loads) -> list[dict]:
     return rows
 
 
-def baseline_ratio(scene: Scene, loads) -> dict:
-    """One load curve: jaxcontact (compiled) against the plain scipy implementation."""
-    params = _baseline_params(scene)
-    t = time.perf_counter()
-    solve_curve(params, loads)
-    scipy_s = time.perf_counter() - t
-    jax_s = time_scene(scene, loads)["run_s"]
-    return {"points": int(np.size(loads)), "scipy_s": scipy_s, "jaxcontact_s": jax_s, "speedup": scipy_s / jax_s}
+def compilation_cache() -> dict:
+    """Wall time of `jaxcontact run` twice, with a fresh persistent cache: cold, then warm."""
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "JAXCONTACT_CACHE": cache}
+        times = []
+        for _ in range(2):
+            t = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "jaxcontact.cli", "run", "--out", out, "--format", "json",
+                            "--no-progress"], env=env, check=True, capture_output=True)
+            times.append(time.perf_counter() - t)
+        entries = sum(1 for _ in pathlib.Path(cache).rglob("*") if _.is_file())
+    return {"cold_s": times[0], "warm_s": times[1], "cache_entries": entries}
+
+
+def run_all(scene: Scene, progress=None) -> dict:
+    steps = [("curve", curve), ("gradient", gradient), ("fit", fit), ("throughput", throughput),
+             ("effects", effects_table), ("compilation_cache", lambda s: compilation_cache())]
+    results = {"device": str(jax.devices()[0]), "devices": len(jax.devices())}
+    for name, step in (steps if progress is None else progress(steps)):
+        results[name] = step(scene)
+    return results
+
+
+def format_results(r: dict) -> str:
+    c, g, f, tp = r["curve"], r["gradient"], r["fit"], r["throughput"]
+    no_int = tp["no_interaction"]
+    with_int = next(v for k, v in tp.items() if k != "no_interaction")
+
+    def verdict(ok):
+        return "target met" if ok else "TARGET NOT MET"
+
+    lines = [
+        f"device: {r['device']} ({r['devices']} device(s)); float64; after compilation, best of 5",
+        "",
+        f"200-load curve:       scipy {c['scipy_s']:.3f} s, jaxcontact {1e3 * c['jaxcontact_s']:.3f} ms: "
+        f"{c['speedup']:.0f}x  (target >= 1000x: {verdict(c['speedup'] >= 1000)})",
+        f"loss gradient (30 pt): value+grad {1e3 * g['value_and_grad_s']:.2f} ms = {g['gradient_over_forward']:.2f}x the "
+        f"forward {1e3 * g['forward_s']:.2f} ms (target <= 5x: {verdict(g['gradient_over_forward'] <= 5)}); "
+        f"scipy finite differences {g['scipy_finite_difference_s']:.3f} s: {g['speedup']:.0f}x",
+        f"D/G fit (30 pt):      jaxcontact {f['jaxcontact_1_start_s']:.3f} s (1 start), {f['jaxcontact_12_starts_s']:.3f} s "
+        f"(12 starts, vmapped); scipy least_squares {f['scipy_least_squares_s']:.2f} s: {f['speedup_1_start']:.0f}x "
+        f"(target < 1 s: {verdict(f['jaxcontact_12_starts_s'] < 1)})",
+        f"throughput, 1e5 loads: {no_int['points_per_s']:.3g} points/s without interaction "
+        f"(target >= 1e6: {verdict(no_int['points_per_s'] >= 1e6)}), {with_int['points_per_s']:.3g} with",
+        f"compile time:          {no_int['compile_s']:.2f} s without interaction, {with_int['compile_s']:.2f} s with "
+        f"(target < 3 s: {verdict(max(no_int['compile_s'], with_int['compile_s']) < 3)})",
+        f"CLI persistent compilation cache: `jaxcontact run` cold {r['compilation_cache']['cold_s']:.2f} s, warm "
+        f"{r['compilation_cache']['warm_s']:.2f} s",
+        "",
+        f"what each effect costs (20000 loads):",
+        f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}",
+    ]
+    base = r["effects"][0]["run_s"]
+    for e in r["effects"]:
+        lines.append(f"{e['variant']:40s} {e['compile_s']:11.2f} {1e3 * e['run_s']:9.3f} {e['run_s'] / base:9.2f}x "
+                     f"{e['points_per_s']:10.3g}")
+    return "\n".join(lines)

@@ -168,26 +168,17 @@ def cmd_figures(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    import numpy as np
-
-    from .bench import baseline_ratio, effects_table
+    from .bench import format_results, run_all
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)
-    E, A = float(spec.scene.material.E), float(spec.scene.area)
-    curve = np.geomspace(1e-7, 1e-4, 200) * E * A
-    sweep = np.geomspace(1e-7, 1e-4, 20_000) * E * A
-    effects = effects_table(spec.scene, sweep)
-    ratio = baseline_ratio(spec.scene, curve)
-    base = effects[0]["run_s"]
-    lines = [f"{spec.title}: what each effect costs, 20000 loads, F* 1e-7 … 1e-4, after compilation (best of 5)", "",
-             f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}"]
-    for r in effects:
-        lines.append(f"{r['variant']:40s} {r['compile_s']:11.2f} {1e3 * r['run_s']:9.3f} "
-                     f"{r['run_s'] / base:9.2f}x {r['points_per_s']:10.3g}")
-    lines += ["", f"scipy baseline (quad + brentq), {ratio['points']} loads: {ratio['scipy_s']:.2f} s; "
-              f"jaxcontact {1e3 * ratio['jaxcontact_s']:.2f} ms: {ratio['speedup']:.0f}x faster"]
-    _print({"scene": spec.title, "effects": effects, "baseline": ratio}, args.format, "\n".join(lines))
+    progress = None
+    if args.progress:
+        from tqdm.auto import tqdm
+
+        progress = lambda steps: tqdm(steps, desc="benchmarks", unit="step")  # noqa: E731
+    results = run_all(spec.scene, progress=progress)
+    _print({"scene": spec.title, **results}, args.format, f"{spec.title}\n" + format_results(results))
     return 0
 
 
