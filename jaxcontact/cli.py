@@ -227,6 +227,52 @@ def cmd_accuracy(args) -> int:
     return 0
 
 
+def _grid(text: str, name: str, log: bool):
+    import numpy as np
+
+    try:
+        low, high, count = text.split(":")
+        low, high, count = float(low), float(high), int(count)
+    except ValueError:
+        raise CommandError(f"--{name} {text!r} must be LOW:HIGH:COUNT, e.g. "
+                           + ("1e-11:1e-9:5" if log else "1.3:1.7:5")) from None
+    if count < 1 or high < low or (log and low <= 0):
+        raise CommandError(f"--{name} {text!r}: need COUNT >= 1 and LOW <= HIGH" + (" with LOW > 0" if log else ""))
+    return np.geomspace(low, high, count) if log else np.linspace(low, high, count)
+
+
+def cmd_sweep(args) -> int:
+    import jax
+
+    from .report import write_csv
+    from .scenefile import load_scene
+    from .status import status_message
+    from .sweep import sweep
+
+    if args.distributed:
+        jax.distributed.initialize()
+    spec = load_scene(args.scene)
+    D, G = _grid(args.D, "D", log=False), _grid(args.G, "G", log=True)
+    result = sweep(spec.scene, D, G, spec.loads, progress=args.progress)
+    E, area = float(spec.scene.material.E), float(spec.scene.area)
+    rows = [{"D": float(d), "G_m": float(g), "F_N": float(F), "F_star": float(F) / (E * area),
+             "a_l_m2": float(result.a_l[i, j, k]), "K_N_per_m": float(result.stiffness[i, j, k]),
+             "K_star": float(result.stiffness[i, j, k]) / (E * area**0.5), "status": status_message(result.status[i, j, k])}
+            for i, d in enumerate(D) for j, g in enumerate(G) for k, F in enumerate(result.loads)]
+    files = []
+    if jax.process_index() == 0:
+        out = pathlib.Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        write_csv(rows, out / "sweep.csv")
+        files.append(str(out / "sweep.csv"))
+    flagged = sum(r["status"] != "ok" for r in rows)
+    text = (f"{spec.title}: {D.size} D × {G.size} G × {result.loads.size} loads = {len(rows)} points on "
+            f"{result.devices} device(s), {flagged} flagged\n" + "\n".join(f"wrote {f}" for f in files))
+    _print({"title": spec.title, "devices": result.devices, "points": len(rows), "flagged": flagged, "files": files,
+            "rows": rows if args.format == "json" else []}, args.format, text)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -264,6 +310,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
+
+    p = sub.add_parser("sweep", help="D × G × load grid, sharded across all JAX devices; CSV output")
+    p.add_argument("scene", nargs="?", help="scene TOML file supplying the joint and the loads (default: embedded)")
+    p.add_argument("--D", default="1.3:1.7:5", help="fractal dimensions LOW:HIGH:COUNT, linear (default 1.3:1.7:5)")
+    p.add_argument("--G", default="1e-11:1e-9:5", help="roughness (m) LOW:HIGH:COUNT, log-spaced (default 1e-11:1e-9:5)")
+    p.add_argument("--distributed", action="store_true", help="call jax.distributed.initialize() (multi-host runs)")
+    common(p, "jaxcontact-out")
+    p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("accuracy", help="error against time for every accuracy knob (reference: mpmath)")
     p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")

@@ -1,0 +1,56 @@
+"""Sharded sweeps: results on two (forced) host devices equal unsharded ones."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+from conftest import ROOT
+
+SCRIPT = r"""
+import jax, json, numpy as np
+jax.config.update("jax_enable_x64", True)
+import jaxcontact as jc
+from jaxcontact.sweep import sweep
+assert len(jax.devices()) == 2, jax.devices()
+scene = jc.Scene(jc.Surface(1.4058, 2.2826e-10), jc.Material(220e9, 0.25, 100e9), 1e-4)
+D, G = np.linspace(1.3, 1.7, 5), np.geomspace(1e-11, 1e-9, 3)
+loads = np.geomspace(1e-7, 1e-3, 7) * 2.2e7
+sharded = sweep(scene, D, G, loads, block=4)
+single = sweep(scene, D, G, loads, devices=jax.devices()[:1])
+direct = np.stack([np.stack([np.asarray(jc.solve(jc.Scene(jc.Surface(d, g), scene.material, 1e-4), loads).stiffness)
+                             for g in G]) for d in D])
+print(json.dumps({"devices": sharded.devices,
+                  "status_equal": bool(np.array_equal(sharded.status, single.status)),
+                  "flagged": int((sharded.status != 0).sum()),
+                  "max_diff_single": float(np.nanmax(np.abs(sharded.stiffness / single.stiffness - 1))),
+                  "max_diff_direct": float(np.nanmax(np.abs(sharded.stiffness / direct - 1))),
+                  "nan_match": bool(np.array_equal(np.isnan(sharded.stiffness), np.isnan(direct)))}))
+"""
+
+
+def test_two_devices_equal_unsharded():
+    env = {**os.environ, "XLA_FLAGS": "--xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu"}
+    out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, env=env, cwd=ROOT, check=True)
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    assert result["devices"] == 2 and result["status_equal"] and result["nan_match"]
+    assert result["flagged"] > 0  # the grid reaches breakdown loads: flagged points travel too
+    assert result["max_diff_single"] < 1e-13 and result["max_diff_direct"] < 1e-13
+
+
+def test_sweep_command_writes_csv(tmp_path, capsys, monkeypatch):
+    from jaxcontact.cli import main
+
+    monkeypatch.setenv("JAXCONTACT_CACHE", "")
+    assert main(["sweep", "--D", "1.4:1.6:2", "--G", "1e-10:1e-9:2", "--out", str(tmp_path), "--format", "json",
+                 "--no-progress"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["points"] == 2 * 2 * 41 and len(payload["rows"]) == payload["points"]
+    lines = (tmp_path / "sweep.csv").read_text().splitlines()
+    assert lines[0].startswith("D,G_m,F_N") and len(lines) == 1 + payload["points"]
+    assert main(["sweep", "--D", "1.4:1.6", "--out", str(tmp_path)]) == 2
+    assert "LOW:HIGH:COUNT" in capsys.readouterr().err
+    assert main(["sweep", "--D", "1.4:2.5:3", "--out", str(tmp_path)]) == 2
+    assert "D (fractal dimension) = 2.5 is outside its valid range (1, 2)" in capsys.readouterr().err
+    np.testing.assert_allclose(payload["rows"][0]["D"], 1.4)
