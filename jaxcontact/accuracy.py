@@ -109,9 +109,8 @@ def format_study(result: dict) -> str:
 
 
 def plot_study(result: dict, path) -> str:
-    import matplotlib
+    from .plots import save_figure  # first: it selects the Agg backend
 
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4.8))
@@ -130,7 +129,4 @@ def plot_study(result: dict, path) -> str:
            title="What accuracy costs")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return str(path)
+    return save_figure(fig, path)

@@ -282,22 +282,19 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--out", default=default_out, help=f"output folder (default: {default_out})")
         p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
 
-    p = sub.add_parser("run", help="solve a scene (default: the embedded Table 1 scene), write CSV and plots")
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_grinding.toml)")
-    common(p, "jaxcontact-out")
-    p.set_defaults(func=cmd_run)
+    def scene_command(name, help, func, out, default_scene="table1_grinding.toml"):
+        p = sub.add_parser(name, help=help)
+        p.add_argument("scene", nargs="?", help=f"scene TOML file (default: embedded {default_scene})")
+        common(p, out)
+        p.set_defaults(func=func)
+        return p
 
-    p = sub.add_parser("approach", help="load–approach curve relative to a preload (scenes with [approach])")
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_dynamics.toml)")
-    common(p, "jaxcontact-out/approach")
-    p.set_defaults(func=cmd_approach)
-
-    p = sub.add_parser("dynamics", help="a driven mass on the joint: time history, frequency response, "
-                                        "resonance against preload (scenes with [dynamics])")
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded table1_dynamics.toml)")
-    common(p, "jaxcontact-out/dynamics")
-    p.set_defaults(func=cmd_dynamics)
-
+    scene_command("run", "solve a scene (default: the embedded Table 1 scene), write CSV and plots", cmd_run,
+                  "jaxcontact-out")
+    scene_command("approach", "load–approach curve relative to a preload (scenes with [approach])", cmd_approach,
+                  "jaxcontact-out/approach", "table1_dynamics.toml")
+    scene_command("dynamics", "a driven mass on the joint: time history, frequency response, resonance against "
+                  "preload (scenes with [dynamics])", cmd_dynamics, "jaxcontact-out/dynamics", "table1_dynamics.toml")
     p = sub.add_parser("figures", help="reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
     common(p, "jaxcontact-out/figures")
     p.set_defaults(func=cmd_figures)
@@ -311,23 +308,15 @@ def build_parser() -> argparse.ArgumentParser:
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
 
-    p = sub.add_parser("sweep", help="D × G × load grid, sharded across all JAX devices; CSV output")
-    p.add_argument("scene", nargs="?", help="scene TOML file supplying the joint and the loads (default: embedded)")
+    p = scene_command("sweep", "D × G × load grid, sharded across all JAX devices; CSV output", cmd_sweep,
+                      "jaxcontact-out")
     p.add_argument("--D", default="1.3:1.7:5", help="fractal dimensions LOW:HIGH:COUNT, linear (default 1.3:1.7:5)")
     p.add_argument("--G", default="1e-11:1e-9:5", help="roughness (m) LOW:HIGH:COUNT, log-spaced (default 1e-11:1e-9:5)")
     p.add_argument("--distributed", action="store_true", help="call jax.distributed.initialize() (multi-host runs)")
-    common(p, "jaxcontact-out")
-    p.set_defaults(func=cmd_sweep)
-
-    p = sub.add_parser("accuracy", help="error against time for every accuracy knob (reference: mpmath)")
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")
-    common(p, "jaxcontact-out")
-    p.set_defaults(func=cmd_accuracy)
-
-    p = sub.add_parser("bench", help="time the compiled model: each effect's cost, speed against scipy")
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: embedded)")
-    common(p, "jaxcontact-out")
-    p.set_defaults(func=cmd_bench)
+    scene_command("accuracy", "error against time for every accuracy knob (reference: mpmath)", cmd_accuracy,
+                  "jaxcontact-out")
+    scene_command("bench", "time the compiled model: speed against scipy, each effect's cost", cmd_bench,
+                  "jaxcontact-out")
     return parser
 
 

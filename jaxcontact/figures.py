@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .parameters import Material, Surface  # noqa: E402
+from .plots import save_figure  # noqa: E402
 from .runner import solve_sweep  # noqa: E402
 from .scene import Scene  # noqa: E402
 
@@ -39,14 +40,11 @@ def _curve(ax, scene, label, y="stiffness_star", style="-"):
     return sol
 
 
-def _finish(ax, fig, path, title, ylabel="K* = K / (E sqrt(A_a))"):
-    ax.set(xlabel="F* = F / (E A_a)", ylabel=ylabel, title=title)
+def _finish(ax, fig, path, title, ylabel="K* = K / (E sqrt(A_a))", xlabel="F* = F / (E A_a)"):
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return str(path)
+    return save_figure(fig, path)
 
 
 def figure3(out):
@@ -103,14 +101,8 @@ def figure_l_min(out):
             K.append(sol.stiffness_star[0] if sol.status[0] == 0 else np.nan)
         ax.loglog(l_mins, K, "o-", ms=3, label=f"F* = {F_star:g}")
     ax.axvline(1e-9, color="k", ls=":", lw=1, label="default l_min = 1 nm")
-    ax.set(xlabel="l_min (m)", ylabel="K*", title="Stiffness against the cutoff l_min (Table 1 surface)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = out / "l_min_dependence.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return str(path)
+    return _finish(ax, fig, out / "l_min_dependence.png", "Stiffness against the cutoff l_min (Table 1 surface)",
+                   ylabel="K*", xlabel="l_min (m)")
 
 
 ALL = (figure3, figure4, figure5, figure6, figure8, figure_l_min)

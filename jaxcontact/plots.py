@@ -14,7 +14,8 @@ from .asperity import REGIMES  # noqa: E402
 from .solution import Solution  # noqa: E402
 
 
-def _save(fig, path: pathlib.Path) -> str:
+def save_figure(fig, path) -> str:
+    """Lay out, write (PNG, 120 dpi) and close a figure; returns the path."""
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -37,14 +38,14 @@ def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
     ax.set(xlabel="F* = F / (E A_a)", ylabel="K* = K / (E sqrt(A_a))", title=title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-    paths.append(_save(fig, out / "stiffness.png"))
+    paths.append(save_figure(fig, out / "stiffness.png"))
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     solved = np.isfinite(np.asarray(solution.a_l))
     ax.loglog(F[solved], np.asarray(solution.a_l_star)[solved], "o-", ms=3)
     ax.set(xlabel="F*", ylabel="a_l* = a_l / A_a", title="Largest contact spot (Fig. 3)")
     ax.grid(True, which="both", alpha=0.3)
-    paths.append(_save(fig, out / "largest_spot.png"))
+    paths.append(save_figure(fig, out / "largest_spot.png"))
 
     if solution.load_share is not None:
         fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
@@ -53,7 +54,7 @@ def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
             ax.stackplot(F[valid], np.asarray(share)[valid].T, labels=REGIMES, alpha=0.8)
             ax.set(xscale="log", xlabel="F*", ylabel=f"share of {what}", ylim=(0, 1), title=f"{what} by regime")
         axes[1].legend(loc="upper left")
-        paths.append(_save(fig, out / "regime_shares.png"))
+        paths.append(save_figure(fig, out / "regime_shares.png"))
     return paths
 
 
@@ -66,7 +67,7 @@ def plot_fit(loads, stiffness, fine_loads, fitted_stiffness, legend_lines, path:
     ax.set(xlabel="load F (N)", ylabel="stiffness K (N/m)", title="Fit of the stiffness curve")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_approach(load_star, approach_m, reference_load, path: pathlib.Path) -> str:
@@ -78,7 +79,7 @@ def plot_approach(load_star, approach_m, reference_load, path: pathlib.Path) -> 
     ax.axhline(0.0, color="k", lw=0.8, ls=":")
     ax.set(xlabel="F* = F / (E A_a)", ylabel="δ(F) − δ(F0) (nm)", title=f"Load–approach curve (F0 = {reference_load:g} N)")
     ax.grid(True, which="both", alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_dynamics(history, sweep_hz, sweep_amplitude, f_linear, preloads, resonance_hz, out: pathlib.Path) -> list[str]:
@@ -88,18 +89,18 @@ def plot_dynamics(history, sweep_hz, sweep_amplitude, f_linear, preloads, resona
     ax.plot(1e3 * np.asarray(history.t), 1e9 * np.asarray(history.x))
     ax.set(xlabel="t (ms)", ylabel="x (nm)", title="Time history at the drive frequency")
     ax.grid(True, alpha=0.3)
-    paths = [_save(fig, out / "time_history.png")]
+    paths = [save_figure(fig, out / "time_history.png")]
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.semilogy(sweep_hz, 1e9 * np.asarray(sweep_amplitude), "o-", ms=3)
     ax.axvline(f_linear, color="k", ls=":", label=f"sqrt(K(F0)/m)/2π = {f_linear:.5g} Hz")
     ax.set(xlabel="drive frequency (Hz)", ylabel="steady amplitude (nm)", title="Frequency response")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    paths.append(_save(fig, out / "frequency_response.png"))
+    paths.append(save_figure(fig, out / "frequency_response.png"))
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ok = np.isfinite(resonance_hz)
     ax.loglog(preloads[ok], resonance_hz[ok], "o-", ms=3)
     ax.set(xlabel="preload F0 (N)", ylabel="resonance frequency (Hz)", title="Resonance against preload")
     ax.grid(True, which="both", alpha=0.3)
-    paths.append(_save(fig, out / "resonance_vs_preload.png"))
+    paths.append(save_figure(fig, out / "resonance_vs_preload.png"))
     return paths
