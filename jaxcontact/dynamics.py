@@ -56,8 +56,7 @@ class Drive(eqx.Module):
         check_range("preload", self.preload, 0.0, meaning="N")
         check_range("frequency", self.frequency, 0.0, meaning="Hz")
         F0, F1 = concrete(self.preload), concrete(self.amplitude)
-        if F0 is not None and F1 is not None and not (0 < F1).all() or (F1 is not None and F0 is not None
-                                                                       and not (F1 < F0).all()):
+        if F0 is not None and F1 is not None and not ((0 < F1) & (F1 < F0)).all():
             raise ValueError(f"amplitude = {F1} N must satisfy 0 < amplitude < preload = {F0} N "
                              "(a larger amplitude would open the joint)")
 
