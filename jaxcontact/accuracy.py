@@ -16,6 +16,7 @@ import jax
 import numpy as np
 
 from . import reference
+from .bench import best_of
 from .scene import Scene
 from .solve import solve
 
@@ -75,11 +76,7 @@ def study(scene: Scene, F_star_range=(1e-7, 9.81e-4), quick: bool = False, progr
             t = time.perf_counter()
             K = np.asarray(jax.block_until_ready(run(variant, F)).stiffness, dtype=float)
             compile_s = time.perf_counter() - t
-            best = np.inf
-            for _ in range(5):
-                t = time.perf_counter()
-                jax.block_until_ready(run(variant, F))
-                best = min(best, time.perf_counter() - t)
+            best = best_of(lambda: run(variant, F))
         error = float(np.max(np.abs(K[pick] / exact - 1)))
         rows.append(dict(knob=knob.label, group=knob.group, default=knob.default, max_rel_error=error,
                          ms_per_1000_loads=1e3 * best * 1000 / CURVE, compile_s=compile_s - best))

@@ -50,13 +50,13 @@ def _approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int):
         return jnp.exp(t) / stiffness_star(t)  # dδ*/d ln F*
 
     point_status = jax.vmap(lambda t: one_point(jnp.exp(t)).status)(log_F)
-    reference_status = one_point(jnp.exp(log_F0)).status
+    reference = one_point(jnp.exp(log_F0))
     # Flagged loads sit at the preload during the solve (and are masked after it), so that the
     # path only spans valid loads: one bad point must not stop the integration for the others.
     ts = jnp.concatenate([jnp.where(point_status == Status.OK, log_F, log_F0), log_F0[None]])
     order = jnp.argsort(ts)
     ts_sorted = ts[order]
-    scale = jnp.abs(slope(log_F0, None, None))  # δ* per unit ln F* near the preload
+    scale = jnp.exp(log_F0) / reference.stiffness_star  # δ* per unit ln F* near the preload
     scale = jnp.where(jnp.isfinite(scale), scale, 1.0)
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(slope), diffrax.Tsit5(), t0=ts_sorted[0], t1=ts_sorted[-1], dt0=None,
@@ -67,7 +67,7 @@ def _approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int):
     delta_sorted = jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys, jnp.nan)
     delta = jnp.zeros_like(ts).at[order].set(delta_sorted)
     delta = (delta[:-1] - delta[-1]) * jnp.sqrt(area)
-    status = jnp.where(point_status != Status.OK, point_status, reference_status)
+    status = jnp.where(point_status != Status.OK, point_status, reference.status)
     status = jnp.where((status == Status.OK) & ~jnp.isfinite(delta), Status.NOT_CONVERGED, status)
     delta = jnp.where(status == Status.OK, delta, jnp.nan)
     return Approach(loads, reference_load, delta.reshape(loads.shape), status.reshape(loads.shape).astype(jnp.int32))

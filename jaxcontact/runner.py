@@ -12,14 +12,16 @@ from .solve import solve
 CHUNK = 4096
 
 
-def map_in_chunks(fn, values, *, chunk: int, progress: bool = False, desc: str = ""):
+def map_in_chunks(fn, values, *, chunk: int, progress: bool = False, desc: str = "", pad_small: bool = False):
     """`fn(values)` computed `chunk` values at a time, results concatenated along axis 0.
 
     The last chunk is padded by repeating its final value, so that a jitted `fn` is compiled
     once; `fn` must return a pytree of arrays with a leading axis of the chunk's length.
+    Fewer than `chunk` values go in one unpadded call unless `pad_small` (for callers whose
+    blocks must always be `chunk` long, e.g. to divide evenly over devices).
     """
     values = np.asarray(values)
-    if values.size <= chunk:
+    if values.size <= chunk and not pad_small:
         return jax.tree.map(np.asarray, fn(values))
     starts = range(0, values.size, chunk)
     if progress:

@@ -106,10 +106,9 @@ def _check_types(data: dict) -> None:
             if name not in allowed:
                 raise SceneFileError(f"unknown key {key}.{name} (allowed in [{key}]: {', '.join(allowed)})")
             kind = allowed[name]
-            ok = isinstance(value, kind) and not (kind in (int, float) and isinstance(value, bool))
-            if kind is float:
-                ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            if not ok:
+            # TOML booleans are ints to Python; an integer is a fine float.
+            accepted = (int, float) if kind is float else kind
+            if not isinstance(value, accepted) or (kind is not bool and isinstance(value, bool)):
                 raise SceneFileError(f"{key}.{name} = {value!r} must be {_type_name(kind)}")
     for table, keys in _REQUIRED.items():
         if table not in data:

@@ -18,6 +18,7 @@ import numpy as np
 from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
+from .runner import map_in_chunks
 from .scene import Scene
 from .solve import prepare, solve
 
@@ -69,19 +70,14 @@ def sweep(scene: Scene, D, G, loads, *, block: int | None = None, progress: bool
     block = len(devices) * (64 if block is None else -(-block // len(devices)))
     run = _solver(scene, loads, sharding)
     dtype = loads.dtype
-    starts = range(0, n, block)
-    if progress:
-        from tqdm.auto import tqdm
 
-        starts = tqdm(starts, total=len(starts), unit="block", desc=f"sweep: {n} (D, G) pairs × {loads.size} loads")
-    outputs = []
-    for start in starts:
-        chunk = slice(start, min(start + block, n))
-        padded = [np.pad(x[chunk], (0, block - (chunk.stop - chunk.start)), mode="edge") for x in (pairs_D, pairs_G)]
-        inputs = [jax.make_array_from_callback((block,), sharding, lambda idx, x=x: jnp.asarray(x[idx], dtype))
-                  for x in padded]
-        result = run(*inputs)
-        result = [np.asarray(multihost_utils.process_allgather(x, tiled=True)) for x in result]
-        outputs.append([x[: chunk.stop - chunk.start] for x in result])
-    K, a_l, status = (np.concatenate(xs).reshape(D.size, G.size, loads.size) for xs in zip(*outputs))
+    def solve_block(pairs):
+        inputs = [jax.make_array_from_callback((pairs.size,), sharding, lambda idx, x=x[pairs]: jnp.asarray(x[idx], dtype))
+                  for x in (pairs_D, pairs_G)]
+        return tuple(np.asarray(multihost_utils.process_allgather(x, tiled=True)) for x in run(*inputs))
+
+    # Every block has exactly `block` pairs (the last padded), so its length divides over the devices.
+    outputs = map_in_chunks(solve_block, np.arange(n), chunk=block, pad_small=True, progress=progress,
+                            desc=f"sweep: {n} (D, G) pairs × {loads.size} loads")
+    K, a_l, status = (x.reshape(D.size, G.size, loads.size) for x in outputs)
     return SweepResult(D=D, G=G, loads=np.asarray(loads), stiffness=K, a_l=a_l, status=status, devices=len(devices))
