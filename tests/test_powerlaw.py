@@ -6,7 +6,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from jaxcontact.powerlaw import PowerLaw, exponential_integral, log_sinhc
+from jaxcontact.powerlaw import PowerLaw, exponential_integral, mean_decay
 
 
 def exact(log_c, rate, u, v):
@@ -43,11 +43,18 @@ def test_empty_interval_is_zero_even_with_huge_coefficient():
     assert all(np.isfinite(g))
 
 
-def test_log_sinhc_continuous_across_branches():
-    z = jnp.array([9.999e-3, 1e-2, 1.0001e-2, -1e-2, 0.3, -7.0])
-    want = [float(mpmath.log(mpmath.sinh(mpmath.mpf(x)) / mpmath.mpf(x))) for x in np.asarray(z)]
-    # log_sinhc is an exponent: its absolute error is the relative error of the integral.
-    np.testing.assert_allclose(log_sinhc(z), want, rtol=1e-13, atol=2e-15)
+def test_mean_decay_and_its_derivative_match_high_precision():
+    # Both sides of the derivative's switch to its series (x = 0.1), and the floor at x = 0.
+    x = np.array([0.0, 1e-12, 1e-5, 0.0999, 0.1, 0.1001, 0.7, 30.0])
+    mpmath.mp.dps = 40
+
+    def value(v):
+        return mpmath.mpf(1) if v == 0 else -mpmath.expm1(-v) / v
+
+    want = [float(value(mpmath.mpf(v))) for v in x]
+    want_slope = [float(mpmath.diff(value, mpmath.mpf(v))) if v > 0 else -0.5 for v in x]
+    np.testing.assert_allclose(mean_decay(jnp.asarray(x)), want, rtol=1e-15)
+    np.testing.assert_allclose(jax.vmap(jax.grad(mean_decay))(jnp.asarray(x)), want_slope, rtol=1e-12)
 
 
 def test_power_law_algebra():
