@@ -34,8 +34,8 @@ class Knob:
 
 
 def knobs(quick: bool = False) -> list[Knob]:
-    nodes = (4, 16, 32) if quick else (4, 8, 16, 32, 48, 64, 128, 256)
-    out = [Knob(f"Gauss–Legendre, {n} nodes", "quadrature nodes", dict(quadrature_nodes=n), default=n == 32)
+    nodes = (4, 16, 32) if quick else (4, 8, 12, 16, 24, 32, 64, 128, 256)
+    out = [Knob(f"Gauss–Legendre, {n} nodes", "quadrature nodes", dict(quadrature_nodes=n), default=n == 16)
            for n in nodes]
     if quick:
         return out

@@ -18,6 +18,7 @@ from __future__ import annotations
 import abc
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
@@ -25,6 +26,7 @@ from .asperity import interference, regime_edges, regime_load_laws
 from .dimensionless import DimensionlessScene
 from .distribution import size_distribution
 from .interaction import INTERACTION_SIGNS, breakdown_log_area, interaction_ratio, stiffness_without_interaction
+from .load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
 from .powerlaw import PowerLaw, exponential_integral
 from .quadrature import integrate_rows
 
@@ -59,6 +61,16 @@ class AbstractJoint(eqx.Module):
     def total_load(self, log_a_l):
         """`F_t*(a_l)`, Eq. (35); increasing in `a_l`."""
         return jnp.sum(self.regime_load(log_a_l))
+
+    @abc.abstractmethod
+    def kinks(self) -> Float[Array, "kinks"]:
+        """`ln a_l*` where the slope of `F_t` jumps (a regime boundary), increasing."""
+
+    def load_pieces(self) -> AbstractLoadPieces:
+        """`F_t` piece by piece between its kinks, for the load-controlled solve."""
+        knots = jnp.concatenate([self.log_a_min[None], jnp.clip(self.kinks(), self.log_a_min, 0.0),
+                                 jnp.zeros_like(self.log_a_min)[None]])
+        return GenericLoadPieces(knots, jnp.log(jax.vmap(self.total_load)(knots)), self)
 
     @abc.abstractmethod
     def response(self, log_a_l, log_load) -> JointResponse:
@@ -103,6 +115,13 @@ class Xia2024Joint(AbstractJoint):
 
     def distribution(self, log_a_l) -> PowerLaw:
         return size_distribution(self.D, log_a_l, self.log_density)
+
+    def kinks(self):
+        return self.edges[1:-1]
+
+    def load_pieces(self) -> PowerLawLoadPieces:
+        knots = jnp.clip(self.edges, self.log_a_min, 0.0)
+        return PowerLawLoadPieces.build(knots, self.D / 2.0, self.load_laws * self.distribution(0.0))
 
     def regime_load(self, log_a_l):
         """Eqs. (31)–(34): `∫ f(a) n(a) da` over each regime, in closed form."""
@@ -160,12 +179,14 @@ class Xia2024Joint(AbstractJoint):
             w_hi = -jnp.log1p(-jnp.exp(ratio_log + ratio_rate * hi))
             remainder_log = density_log - density_rate * ratio_log / ratio_rate - jnp.log(ratio_rate)
             remainder_power = density_rate / ratio_rate + _GEOMETRIC_TERMS
+            tiny = float(jnp.finfo(lo.dtype).tiny)
 
             def remainder(w, log_coeff, power):
-                # u^power with u = 1 - e^(-w); u = 0 only on an empty interval (w = 0).
-                u = -jnp.expm1(-w)
-                positive = u > 0
-                return jnp.where(positive, jnp.exp(log_coeff + power * jnp.log(jnp.where(positive, u, 1.0))), 0.0)
+                # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the
+                # floor gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would
+                # stop XLA from vectorising the loop.
+                u = jnp.maximum(-jnp.expm1(-w), tiny)
+                return jnp.exp(log_coeff + power * jnp.log(u))
 
             part = part + integrate_rows(remainder, (remainder_log, remainder_power), w_lo, w_hi, **options)
         return closed_form + jnp.concatenate([part, jnp.zeros_like(part[:1])]), breakdown
