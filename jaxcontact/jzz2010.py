@@ -49,6 +49,9 @@ class JZZ2010Joint(AbstractJoint):
     def _elastic_range(self, log_a_l):
         return self.log_a_c, jnp.maximum(log_a_l, self.log_a_c)
 
+    def kinks(self):
+        return self.log_a_c[None]
+
     def regime_load(self, log_a_l):
         n = size_distribution(self.D, log_a_l, self.log_density)
         elastic = (self.elastic_law * n).integral(*self._elastic_range(log_a_l))

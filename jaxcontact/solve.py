@@ -1,8 +1,10 @@
 """Load control (Sec. 4, MODEL.md §4): solve `F_t(a_l) = F` for the largest spot, then evaluate.
 
-The solve runs in `ln a_l*` on the bracket `[ln a_min*, 0]` (the largest spot lies between the
-smallest fractal asperity and the nominal area) with a safeguarded Newton method, and is
-differentiated by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`.
+The solve runs in `ln a_l*` on `[ln a_min*, 0]` (the largest spot lies between the smallest
+fractal asperity and the nominal area). `F_t` at the regime boundaries (once per scene) tells
+which smooth piece of `F_t` holds each load (`load_pieces`); a safeguarded Newton method then
+runs on that piece alone, from the piece's log-log interpolant, and the root is differentiated
+by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`.
 
 Failed points never raise and never poison a batch: each is solved at a harmless stand-in
 load, its outputs are replaced by NaN and it is given a non-zero `status`, so the values and
@@ -36,9 +38,9 @@ def make_joint(scene: Scene) -> AbstractJoint:
     return JZZ2010Joint.from_dimensionless(s)
 
 
-def _load_residual(log_a_l, args):
-    joint, log_load = args
-    return jnp.log(joint.total_load(log_a_l)) - log_load
+def _piece_residual(log_a_l, args):
+    pieces, piece, log_load = args
+    return pieces.log_load(log_a_l, piece) - log_load, None
 
 
 def _check_loads(loads) -> None:
@@ -77,23 +79,21 @@ def point_solver(scene: Scene):
     """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
 
     Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
-    the bracket and the initial-guess secant) is computed here, so that callers that evaluate
+    `F_t` at the kinks that bracket each piece) is computed here, so that callers that evaluate
     K(F) many times (`approach`, `dynamics`) pay for it once.
     """
     joint = make_joint(scene)
     dtype = jnp.result_type(joint.log_a_min)
     tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
-    area = scene.area
-    lower, upper = joint.log_a_min, jnp.zeros_like(joint.log_a_min)
-    middle = 0.5 * (lower + upper)
-    log_load_lowest = jnp.log(joint.total_load(lower))  # -inf for xia2024: any F > 0 is reachable
-    log_load_middle = jnp.log(joint.total_load(middle))
-    log_load_highest = jnp.log(joint.total_load(upper))
-    secant_slope = (upper - middle) / (log_load_highest - log_load_middle)
+    pieces = joint.load_pieces()
+    log_load_lowest = pieces.knot_log_loads[0]  # -inf for xia2024: any F > 0 is reachable
+    log_load_highest = pieces.knot_log_loads[-1]
+    # Failed points are solved at a harmless stand-in: the load that puts a_l midway (in logs).
+    log_load_middle = jnp.log(joint.total_load(0.5 * joint.log_a_min))
     # Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
     s, m = scene.surface, scene.material
     parameters_valid = ((s.D > 1.0) & (s.D < 2.0) & (s.G > 0) & (s.l_min > 0) & (m.E > 0) & (m.H > 0)
-                        & (m.nu >= 0) & (m.nu < 0.5) & (area > 0) & (lower < upper)
+                        & (m.nu >= 0) & (m.nu < 0.5) & (scene.area > 0) & (joint.log_a_min < 0)
                         & jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle))
 
     def one_point(F_star) -> PointResult:
@@ -102,8 +102,8 @@ def point_solver(scene: Scene):
         in_range = (log_load > log_load_lowest) & (log_load <= log_load_highest)
         usable = valid & in_range
         log_load = jnp.where(usable, log_load, log_load_middle)
-        guess = jnp.clip(middle + (log_load - log_load_middle) * secant_slope, lower + 1e-3 * (upper - lower), upper)
-        log_a_l, converged = solve_increasing(_load_residual, guess, (joint, log_load), lower, upper,
+        piece, lower, upper, guess = pieces.locate(log_load)
+        log_a_l, converged = solve_increasing(_piece_residual, guess, (pieces, piece, log_load), lower, upper,
                                               tolerance=tolerance, max_steps=scene.max_steps)
         response = joint.response(log_a_l, log_load)
         status = jnp.select(

@@ -2,12 +2,16 @@
 
 optimistix offers bisection (robust, linear) and Newton (fast, unbracketed: its `lower`/`upper`
 options only clip). The a_l solve wants both: the residual `ln F_t(a_l) - ln F` is increasing
-and nearly linear in `ln a_l`, but has kinks at the regime boundaries and is `-∞` at `a_min`. This
-is the classic `rtsafe`: a Newton step when it lands inside the current bracket, bisection
-otherwise. It runs inside `optimistix.root_find`; `solve_increasing` differentiates the root by
-the implicit function theorem (a `custom_jvp`), never by unrolling. (optimistix's own
-`ImplicitAdjoint` raises on a non-finite Jacobian, which would let one bad point of a batch
-abort the whole gradient.)
+and smooth on each piece between the regime boundaries (`AbstractJoint.load_pieces`), and `-∞`
+at `a_min`. This is the classic `rtsafe`: a Newton step when it lands inside the current
+bracket, bisection otherwise.
+
+`solve_increasing` first takes a few such steps as straight-line code (XLA fuses them into one
+loop over the batch; from a good guess they already converge), then hands the point to
+`optimistix.root_find`, whose loop starts with a convergence check and so runs no iteration at
+all unless a point needs more steps. The root is differentiated by the implicit function
+theorem (a `custom_jvp`), never by unrolling. (optimistix's own `ImplicitAdjoint` raises on a
+non-finite Jacobian, which would let one bad point of a batch abort the whole gradient.)
 """
 
 from __future__ import annotations
@@ -29,13 +33,28 @@ class _BracketState(eqx.Module):
     upper: Scalar
     step: Scalar
     residual: Scalar
+    pending: Scalar  # `step` is the next step, not yet taken (true only for the state from `init`)
+
+
+def _safeguarded_newton(fn, y, args, lower, upper):
+    """One `rtsafe` step from `y` in `[lower, upper]`: `(residual, new_y, state, aux)`."""
+    (residual, aux), (slope, _) = jax.jvp(lambda x: fn(x, args), (y,), (jnp.ones_like(y),))
+    below = residual < 0
+    lower = jnp.where(below, y, lower)
+    upper = jnp.where(below, upper, y)
+    newton = y - residual / slope
+    # Inclusive: at an exact root the Newton point *is* the new bracket end.
+    inside = jnp.isfinite(newton) & (newton >= lower) & (newton <= upper)
+    new_y = jnp.where(inside, newton, 0.5 * (lower + upper))
+    return residual, new_y, _BracketState(lower, upper, new_y - y, residual, jnp.array(False)), aux
 
 
 class BracketedNewton(optx.AbstractRootFinder):
     """Newton's method safeguarded by a bracket, for increasing `R → R` functions.
 
     Requires `options=dict(lower=..., upper=...)` with `fn(lower) ≤ 0 ≤ fn(upper)`.
-    Terminates once a step (or the bracket) is smaller than `atol + rtol·|y|`.
+    Terminates once a step (or the bracket) is smaller than `atol + rtol·|y|`, checked at the
+    initial point too: a point that starts at a root costs one evaluation and no iteration.
     """
 
     rtol: float
@@ -43,22 +62,18 @@ class BracketedNewton(optx.AbstractRootFinder):
     norm: ClassVar[Callable[[PyTree], Scalar]] = jnp.abs
 
     def init(self, fn, y, args, options: dict[str, Any], f_struct, aux_struct, tags):
-        del fn, args, aux_struct, tags
-        inf = jnp.array(jnp.inf, f_struct.dtype)
-        return _BracketState(lower=jnp.asarray(options["lower"], f_struct.dtype),
-                             upper=jnp.asarray(options["upper"], f_struct.dtype), step=inf, residual=inf)
+        del aux_struct, tags
+        # Evaluate at the initial point, so that a point that already is a root (to tolerance)
+        # terminates before the first iteration.
+        lower = jnp.asarray(options["lower"], f_struct.dtype)
+        upper = jnp.asarray(options["upper"], f_struct.dtype)
+        state = _safeguarded_newton(fn, y, args, lower, upper)[2]
+        return eqx.tree_at(lambda st: st.pending, state, jnp.array(True))
 
     def step(self, fn, y, args, options, state: _BracketState, tags):
         del options, tags
-        (residual, aux), (slope, _) = jax.jvp(lambda x: fn(x, args), (y,), (jnp.ones_like(y),))
-        below = residual < 0
-        lower = jnp.where(below, y, state.lower)
-        upper = jnp.where(below, state.upper, y)
-        newton = y - residual / slope
-        # Inclusive: at an exact root the Newton point *is* the new bracket end.
-        inside = jnp.isfinite(newton) & (newton >= lower) & (newton <= upper)
-        new_y = jnp.where(inside, newton, 0.5 * (lower + upper))
-        return new_y, _BracketState(lower, upper, new_y - y, residual), aux
+        _, new_y, state, aux = _safeguarded_newton(fn, y, args, state.lower, state.upper)
+        return new_y, state, aux
 
     def terminate(self, fn, y, args, options, state: _BracketState, tags):
         del fn, args, options, tags
@@ -67,11 +82,16 @@ class BracketedNewton(optx.AbstractRootFinder):
         return done, optx.RESULTS.successful
 
     def postprocess(self, fn, y, aux, args, options, state, tags, result):
-        return y, aux, {}
+        # Stopped by the check in `init`: take the (tolerance-sized) step it found, so that the
+        # root is as accurate as after a step in the loop.
+        return jnp.where(state.pending, y + state.step, y), aux, {}
 
 
-def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps: int):
+def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps: int, unrolled_steps: int = 4):
     """Root of an increasing `fn(y, args)` in `[lower, upper]`; returns `(y, converged)`.
+
+    `fn` returns `(value, aux)`. The first `unrolled_steps` steps (at most `max_steps`) run as
+    straight-line code; `optimistix.root_find` takes any steps left after that.
 
     Differentiable in `args` by the implicit function theorem, `dy = -(∂fn/∂args · dargs) / (∂fn/∂y)`
     (a `custom_jvp`, so reverse mode works by transposition). Never raises: a solve that runs
@@ -79,24 +99,32 @@ def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps:
     the root (a point the caller will flag) gives a zero tangent instead of an error, so one
     bad point cannot abort the gradient of a batch.
     """
-    return _root(fn, tolerance, max_steps, y0, lower, upper, args)
+    return _root(fn, tolerance, max_steps, min(unrolled_steps, max_steps), y0, lower, upper, args)
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2))
-def _root(fn, tolerance, max_steps, y0, lower, upper, args):
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2, 3))
+def _root(fn, tolerance, max_steps, unrolled_steps, y0, lower, upper, args):
+    y = y0
+    step = jnp.full_like(y0, jnp.inf)
+    for _ in range(unrolled_steps):
+        _, new_y, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
+        lower, upper, step, y = state.lower, state.upper, state.step, new_y
+    if max_steps == unrolled_steps:
+        converged = jnp.abs(step) < tolerance * (1.0 + jnp.abs(y))
+        return y, converged
     solver = BracketedNewton(rtol=tolerance, atol=tolerance)
-    sol = optx.root_find(fn, solver, y0, args, options=dict(lower=lower, upper=upper),
-                         max_steps=max_steps, throw=False)
+    sol = optx.root_find(fn, solver, y, args, options=dict(lower=lower, upper=upper), has_aux=True,
+                         max_steps=max_steps - unrolled_steps, throw=False)
     return sol.value, sol.result == optx.RESULTS.successful
 
 
 @_root.defjvp
-def _root_jvp(fn, tolerance, max_steps, primals, tangents):
+def _root_jvp(fn, tolerance, max_steps, unrolled_steps, primals, tangents):
     y0, lower, upper, args = primals
     args_dot = tangents[3]
-    y, converged = _root(fn, tolerance, max_steps, y0, lower, upper, args)
-    _, slope = jax.jvp(lambda x: fn(x, args), (y,), (jnp.ones_like(y),))
-    _, f_dot = jax.jvp(lambda a: fn(y, a), (args,), (args_dot,))
+    y, converged = _root(fn, tolerance, max_steps, unrolled_steps, y0, lower, upper, args)
+    _, slope = jax.jvp(lambda x: fn(x, args)[0], (y,), (jnp.ones_like(y),))
+    _, f_dot = jax.jvp(lambda a: fn(y, a)[0], (args,), (args_dot,))
     good = jnp.isfinite(slope) & (slope > 0)
     y_dot = jnp.where(good, -f_dot / jnp.where(good, slope, 1.0), 0.0)
     return (y, converged), (y_dot, np.zeros(jnp.shape(converged), dtype=jax.dtypes.float0))

@@ -1,0 +1,73 @@
+"""F_t(a_l) piece by piece (the a_l solve's residual) against the joint's full regime sums."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact.load_pieces import GenericLoadPieces, PowerLawLoadPieces
+from jaxcontact.solve import make_joint, prepare
+
+
+def joint_of(**kw):
+    scene, _ = prepare(make_scene(**{**TABLE1, **kw}), 1.0)
+    return make_joint(scene)
+
+
+@pytest.mark.parametrize("D, distribution", [(1.4058, "mb"), (1.05, "mb"), (1.5, "wk"), (1.93, "mb")])
+def test_closed_form_pieces_equal_the_full_regime_sums(D, distribution):
+    joint = joint_of(D=D, distribution=distribution)
+    pieces = joint.load_pieces()
+    assert isinstance(pieces, PowerLawLoadPieces)
+    knots = np.asarray(pieces.knots)
+    assert np.all(np.diff(knots) >= 0) and knots[0] == float(joint.log_a_min) and knots[-1] == 0.0
+    np.testing.assert_allclose(pieces.knot_log_loads[1:], np.log(jax.vmap(joint.total_load)(pieces.knots[1:])),
+                               rtol=1e-13)
+    for piece in range(4):
+        lo, hi = knots[piece], knots[piece + 1]
+        if hi <= lo:
+            continue
+        x = jnp.linspace(lo, hi, 9)[1:]
+        want = jnp.log(jax.vmap(joint.total_load)(x))
+        got = jax.vmap(lambda v: pieces.log_load(v, jnp.int32(piece)))(x)
+        np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-13)
+        # The slope too (inside the piece: at a kink the full sum has no single slope).
+        x = x[:-1]
+        slope = jax.vmap(jax.grad(lambda v: pieces.log_load(v, jnp.int32(piece))))(x)
+        want_slope = jax.vmap(jax.grad(lambda v: jnp.log(joint.total_load(v))))(x)
+        np.testing.assert_allclose(slope, want_slope, rtol=1e-11)
+
+
+def test_locate_brackets_the_solution():
+    joint = joint_of()
+    pieces = joint.load_pieces()
+    log_loads = jnp.linspace(float(pieces.knot_log_loads[1]) - 8.0, float(pieces.knot_log_loads[-1]) - 1e-6, 400)
+    piece, lower, upper, guess = jax.vmap(pieces.locate)(log_loads)
+    scene = make_scene(**TABLE1, interaction="none")
+    root = np.log(np.asarray(jc.solve(scene, np.exp(np.asarray(log_loads)) * TABLE1["E"] * TABLE1["area"]).a_l_star))
+    assert np.all((lower <= root + 1e-12) & (root <= upper + 1e-12))
+    assert np.all((lower <= guess) & (guess <= upper))
+    assert set(np.unique(piece)) == {0, 1, 2, 3}  # the sweep crosses every regime boundary
+
+
+def test_jzz2010_uses_the_generic_pieces_with_its_one_kink():
+    joint = joint_of(model="jzz2010", interaction="none")
+    pieces = joint.load_pieces()
+    assert isinstance(pieces, GenericLoadPieces)
+    np.testing.assert_allclose(pieces.knots[1], np.clip(float(joint.log_a_c), float(joint.log_a_min), 0.0))
+
+
+def test_hard_loads_fall_back_to_the_optimistix_loop():
+    # Near a_min, ln F_t ~ ln(a_l - a_min): a few straight-line Newton steps from the piece's
+    # end are not enough, and the loop must finish the job (max_steps = 4 leaves it no steps).
+    loads = np.geomspace(1e-14, 1e-11, 12) * TABLE1["E"] * TABLE1["area"]
+    short = jc.solve(make_scene(**TABLE1, interaction="none", max_steps=4), loads)
+    full = jc.solve(make_scene(**TABLE1, interaction="none"), loads)
+    assert np.any(np.asarray(short.status) == jc.Status.NOT_CONVERGED)
+    np.testing.assert_array_equal(full.status, 0)
+    # F_t(a_l) reproduces every load.
+    joint = joint_of(interaction="none")
+    F = jax.vmap(joint.total_load)(jnp.log(full.a_l_star))
+    np.testing.assert_allclose(F, full.load_star, rtol=1e-12)
