@@ -66,10 +66,14 @@ class AbstractJoint(eqx.Module):
     def kinks(self) -> Float[Array, "kinks"]:
         """`ln a_l*` where the slope of `F_t` jumps (a regime boundary), increasing."""
 
+    def knots(self) -> Float[Array, "kinks_plus_2"]:
+        """Ends of the smooth pieces of `F_t` in `ln a_l*`: `ln a_min*`, the kinks (clipped), 0."""
+        return jnp.concatenate([self.log_a_min[None], jnp.clip(self.kinks(), self.log_a_min, 0.0),
+                                jnp.zeros_like(self.log_a_min)[None]])
+
     def load_pieces(self) -> AbstractLoadPieces:
         """`F_t` piece by piece between its kinks, for the load-controlled solve."""
-        knots = jnp.concatenate([self.log_a_min[None], jnp.clip(self.kinks(), self.log_a_min, 0.0),
-                                 jnp.zeros_like(self.log_a_min)[None]])
+        knots = self.knots()
         return GenericLoadPieces(knots, jnp.log(jax.vmap(self.total_load)(knots)), self)
 
     @abc.abstractmethod
@@ -120,8 +124,7 @@ class Xia2024Joint(AbstractJoint):
         return self.edges[1:-1]
 
     def load_pieces(self) -> PowerLawLoadPieces:
-        knots = jnp.clip(self.edges, self.log_a_min, 0.0)
-        return PowerLawLoadPieces.build(knots, self.D / 2.0, self.load_laws * self.distribution(0.0))
+        return PowerLawLoadPieces.build(self.knots(), self.D / 2.0, self.load_laws * self.distribution(0.0))
 
     def regime_load(self, log_a_l):
         """Eqs. (31)–(34): `∫ f(a) n(a) da` over each regime, in closed form."""
