@@ -37,7 +37,7 @@ class _BracketState(eqx.Module):
 
 
 def _safeguarded_newton(fn, y, args, lower, upper):
-    """One `rtsafe` step from `y` in `[lower, upper]`: `(residual, new_y, state, aux)`."""
+    """One `rtsafe` step from `y` in `[lower, upper]`: `(new_y, state, aux)`; the state keeps the residual."""
     (residual, aux), (slope, _) = jax.jvp(lambda x: fn(x, args), (y,), (jnp.ones_like(y),))
     below = residual < 0
     lower = jnp.where(below, y, lower)
@@ -46,7 +46,7 @@ def _safeguarded_newton(fn, y, args, lower, upper):
     # Inclusive: at an exact root the Newton point *is* the new bracket end.
     inside = jnp.isfinite(newton) & (newton >= lower) & (newton <= upper)
     new_y = jnp.where(inside, newton, 0.5 * (lower + upper))
-    return residual, new_y, _BracketState(lower, upper, new_y - y, residual, jnp.array(False)), aux
+    return new_y, _BracketState(lower, upper, new_y - y, residual, jnp.array(False)), aux
 
 
 class BracketedNewton(optx.AbstractRootFinder):
@@ -67,13 +67,12 @@ class BracketedNewton(optx.AbstractRootFinder):
         # terminates before the first iteration.
         lower = jnp.asarray(options["lower"], f_struct.dtype)
         upper = jnp.asarray(options["upper"], f_struct.dtype)
-        state = _safeguarded_newton(fn, y, args, lower, upper)[2]
+        _, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
         return eqx.tree_at(lambda st: st.pending, state, jnp.array(True))
 
     def step(self, fn, y, args, options, state: _BracketState, tags):
         del options, tags
-        _, new_y, state, aux = _safeguarded_newton(fn, y, args, state.lower, state.upper)
-        return new_y, state, aux
+        return _safeguarded_newton(fn, y, args, state.lower, state.upper)
 
     def terminate(self, fn, y, args, options, state: _BracketState, tags):
         del fn, args, options, tags
@@ -107,8 +106,8 @@ def _root(fn, tolerance, max_steps, unrolled_steps, y0, lower, upper, args):
     y = y0
     step = jnp.full_like(y0, jnp.inf)
     for _ in range(unrolled_steps):
-        _, new_y, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
-        lower, upper, step, y = state.lower, state.upper, state.step, new_y
+        y, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
+        lower, upper, step = state.lower, state.upper, state.step
     if max_steps == unrolled_steps:
         converged = jnp.abs(step) < tolerance * (1.0 + jnp.abs(y))
         return y, converged
