@@ -19,12 +19,8 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float, Int
 
+from ._elementwise import pick
 from .powerlaw import PowerLaw, exponential_integral
-
-
-def pick(values: Float[Array, "n"], index: Int[Array, ""]) -> Float[Array, ""]:
-    """`values[index]` as an elementwise select, which XLA fuses into the surrounding loop."""
-    return jax.lax.select_n(index, *values)
 
 
 class AbstractLoadPieces(eqx.Module):
@@ -91,7 +87,10 @@ class PowerLawLoadPieces(AbstractLoadPieces):
     def build(cls, knots, density_exponent, laws: PowerLaw):
         """From the knots (the regime edges clipped to `[ln a_min*, 0]`) and the per-regime laws."""
         full = laws.integral(knots[:-1], knots[1:])
-        totals = jnp.concatenate([jnp.zeros_like(full[:1]), jnp.cumsum(full)])
+        totals = [jnp.zeros_like(full[0])]
+        for piece_load in full:  # a running sum of 4 (cumsum would be its own small kernel)
+            totals.append(totals[-1] + piece_load)
+        totals = jnp.stack(totals)
         knot_log_loads = density_exponent * knots + jnp.log(totals)
         return cls(knots, knot_log_loads, density_exponent, laws, totals[:-1])
 

@@ -19,6 +19,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import ArrayLike, Float
 
+from ._elementwise import unrolled_sum
 from ._validate import concrete
 from .dimensionless import nondimensionalise
 from .joint import AbstractJoint, JointResponse, Xia2024Joint
@@ -71,7 +72,7 @@ class PointResult(eqx.Module):
     @property
     def stiffness_star(self):
         """K* where the point is valid, NaN otherwise."""
-        K = jnp.sum(self.response.regime_stiffness, axis=-1)
+        K = unrolled_sum(self.response.regime_stiffness)
         return jnp.where(self.status == Status.OK, K, jnp.nan)
 
 
@@ -129,13 +130,13 @@ def _solve(scene: Scene, loads):
     nan = jnp.array(jnp.nan, dtype)
     solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
     ok = status == Status.OK
-    stiffness_total = jnp.sum(response.regime_stiffness, axis=-1)
+    stiffness_total = unrolled_sum(response.regime_stiffness)
     a_l_star = jnp.where(solved, jnp.exp(log_a_l), nan)
     stiffness_star = jnp.where(ok, stiffness_total, nan)
     real_area_star = jnp.where(solved, response.real_area, nan)
     load_share = stiffness_share = None
     if scene.regime_shares:
-        load_total = jnp.sum(response.regime_load, axis=-1, keepdims=True)
+        load_total = unrolled_sum(response.regime_load)[:, None]
         positive = jnp.where(stiffness_total > 0, stiffness_total, 1.0)[:, None]  # K = 0: all plastic
         load_share = jnp.where(solved[:, None], response.regime_load / load_total, nan).reshape(shape + (4,))
         stiffness_share = jnp.where(ok[:, None], response.regime_stiffness / positive, nan).reshape(shape + (4,))
