@@ -52,9 +52,11 @@ def _safeguarded_newton(fn, y, args, lower, upper):
 class BracketedNewton(optx.AbstractRootFinder):
     """Newton's method safeguarded by a bracket, for increasing `R → R` functions.
 
-    Requires `options=dict(lower=..., upper=...)` with `fn(lower) ≤ 0 ≤ fn(upper)`.
-    Terminates once a step (or the bracket) is smaller than `atol + rtol·|y|`, checked at the
-    initial point too: a point that starts at a root costs one evaluation and no iteration.
+    Requires `options=dict(lower=..., upper=...)` with `fn(lower) ≤ 0 ≤ fn(upper)`, or
+    `options=dict(state=...)`, the state of a step already taken that ended at `y0` (so that
+    steps taken before the loop are not repeated). Terminates once a step (or the bracket) is
+    smaller than `atol + rtol·|y|`, checked at the initial point too: a point that starts at a
+    root costs at most one evaluation and no iteration.
     """
 
     rtol: float
@@ -63,6 +65,8 @@ class BracketedNewton(optx.AbstractRootFinder):
 
     def init(self, fn, y, args, options: dict[str, Any], f_struct, aux_struct, tags):
         del aux_struct, tags
+        if "state" in options:  # the state of the step that led to `y`, taken before the loop
+            return options["state"]
         # Evaluate at the initial point, so that a point that already is a root (to tolerance)
         # terminates before the first iteration.
         lower = jnp.asarray(options["lower"], f_struct.dtype)
@@ -103,17 +107,17 @@ def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps:
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2, 3))
 def _root(fn, tolerance, max_steps, unrolled_steps, y0, lower, upper, args):
-    y = y0
-    step = jnp.full_like(y0, jnp.inf)
+    y, state = y0, None
     for _ in range(unrolled_steps):
-        y, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
-        lower, upper, step = state.lower, state.upper, state.step
+        bracket = (lower, upper) if state is None else (state.lower, state.upper)
+        y, state, _ = _safeguarded_newton(fn, y, args, *bracket)
+    options = dict(lower=lower, upper=upper) if state is None else dict(state=state)
     if max_steps == unrolled_steps:
-        converged = jnp.abs(step) < tolerance * (1.0 + jnp.abs(y))
+        converged = jnp.abs(state.step) < tolerance * (1.0 + jnp.abs(y))
         return y, converged
     solver = BracketedNewton(rtol=tolerance, atol=tolerance)
-    sol = optx.root_find(fn, solver, y, args, options=dict(lower=lower, upper=upper), has_aux=True,
-                         max_steps=max_steps - unrolled_steps, throw=False)
+    sol = optx.root_find(fn, solver, y, args, options=options, has_aux=True, max_steps=max_steps - unrolled_steps,
+                         throw=False)
     return sol.value, sol.result == optx.RESULTS.successful
 
 
