@@ -22,11 +22,13 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
+from ._elementwise import unrolled_sum
 from .asperity import interference, regime_edges, regime_load_laws
 from .dimensionless import DimensionlessScene
 from .distribution import size_distribution
 from .interaction import INTERACTION_SIGNS, breakdown_log_area, interaction_ratio, stiffness_without_interaction
 from .load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
+from .pole_integral import PoleIntegral
 from .powerlaw import PowerLaw, exponential_integral
 from .quadrature import integrate_rows
 
@@ -60,7 +62,7 @@ class AbstractJoint(eqx.Module):
 
     def total_load(self, log_a_l):
         """`F_t*(a_l)`, Eq. (35); increasing in `a_l`."""
-        return jnp.sum(self.regime_load(log_a_l))
+        return unrolled_sum(self.regime_load(log_a_l))
 
     @abc.abstractmethod
     def kinks(self) -> Float[Array, "kinks"]:
@@ -92,12 +94,12 @@ class Xia2024Joint(AbstractJoint):
     interference_law: PowerLaw
     interaction: str = eqx.field(static=True)
     quadrature_nodes: int = eqx.field(static=True)
-    quadrature: str = eqx.field(static=True, default="gauss-legendre")
+    quadrature: str = eqx.field(static=True, default="power-series")
     quadrature_tolerance: float = eqx.field(static=True, default=1e-10)
 
     @classmethod
     def from_dimensionless(cls, s: DimensionlessScene, interaction: str, quadrature_nodes: int,
-                           quadrature: str = "gauss-legendre", quadrature_tolerance: float = 1e-10):
+                           quadrature: str = "power-series", quadrature_tolerance: float = 1e-10):
         return cls(
             D=s.D,
             log_a_min=s.log_a_min,
@@ -141,9 +143,10 @@ class Xia2024Joint(AbstractJoint):
         - "paper" (`r/(1-r)`, a pole where r = 1, i.e. at breakdown): near breakdown the pole sits
           at the end of the interval and no quadrature in `t` converges. So
           `r/(1-r) = Σ_{j=1..k} r^j + r^(k+1)/(1-r)`: the powers of r are power laws (closed
-          forms), and in the remainder `u = r(a)`, `w = -ln(1-u)` turn the integrand into
-          `u^(δ/e + k) dw`, bounded and smooth, over an interval that grows only like
-          `-ln(1 - r_max)` as the pole approaches. `δ/e + k ≥ 2` in every regime for k = 4.
+          forms), and with `u = r(a)` the remainder is `C ∫ u^p/(1-u) du`, `p = δ/e + k ≥ 2` in
+          every regime for k = 4. With `quadrature = "power-series"` (the default) its
+          antiderivative is summed to round-off (`pole_integral`); otherwise it is integrated by
+          quadrature in `w = -ln(1-u)` (`_remainder_by_quadrature`).
         """
         lower, upper = self.intervals(log_a_l)
         has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
@@ -161,37 +164,20 @@ class Xia2024Joint(AbstractJoint):
         # At a breakdown point the value is discarded; a tiny ratio keeps every number (and
         # gradient) finite, so that one bad point cannot poison the gradient of a batch.
         ratio = PowerLaw(jnp.where(breakdown, -200.0, ratio.log_coeff), ratio.exponent)
-        # Plastic spots have no stiffness: only the first three rows are integrated.
+        # Plastic spots have no stiffness: only the first three regimes are integrated.
         rows = slice(0, 3)
-        density_log, density_rate = integrand.log_coeff[rows], integrand.exponent[rows] + 1.0
-        ratio_log, ratio_rate = ratio.log_coeff[rows], ratio.exponent[rows]
-        lo, hi = lower[rows], upper[rows]
+        density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
+        ratio, lo, hi = ratio[rows], lower[rows], upper[rows]
         options = dict(method=self.quadrature, nodes=self.quadrature_nodes, tolerance=self.quadrature_tolerance)
         if sign > 0:
             def series_correction(t, d_log, d_rate, r_log, r_rate):
                 r = jnp.exp(r_log + r_rate * t)
                 return jnp.exp(d_log + d_rate * t) * (-r / (1.0 + r))
 
-            part = integrate_rows(series_correction, (density_log, density_rate, ratio_log, ratio_rate), lo, hi,
-                                  **options)
+            part = integrate_rows(series_correction, (density.log_coeff, density.exponent, ratio.log_coeff,
+                                                      ratio.exponent), lo, hi, **options)
         else:
-            powers = jnp.arange(1, _GEOMETRIC_TERMS + 1, dtype=lo.dtype)[:, None]
-            part = jnp.sum(exponential_integral(density_log + powers * ratio_log, density_rate + powers * ratio_rate,
-                                                lo, hi), axis=0)
-            w_lo = -jnp.log1p(-jnp.exp(ratio_log + ratio_rate * lo))
-            w_hi = -jnp.log1p(-jnp.exp(ratio_log + ratio_rate * hi))
-            remainder_log = density_log - density_rate * ratio_log / ratio_rate - jnp.log(ratio_rate)
-            remainder_power = density_rate / ratio_rate + _GEOMETRIC_TERMS
-            tiny = float(jnp.finfo(lo.dtype).tiny)
-
-            def remainder(w, log_coeff, power):
-                # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the
-                # floor gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would
-                # stop XLA from vectorising the loop.
-                u = jnp.maximum(-jnp.expm1(-w), tiny)
-                return jnp.exp(log_coeff + power * jnp.log(u))
-
-            part = part + integrate_rows(remainder, (remainder_log, remainder_power), w_lo, w_hi, **options)
+            part = _paper_correction(density, ratio, lo, hi, self.quadrature, options)
         return closed_form + jnp.concatenate([part, jnp.zeros_like(part[:1])]), breakdown
 
     def real_area(self, log_a_l):
@@ -202,3 +188,55 @@ class Xia2024Joint(AbstractJoint):
     def response(self, log_a_l, log_load):
         stiffness, breakdown = self.regime_stiffness(log_a_l, log_load)
         return JointResponse(self.regime_load(log_a_l), stiffness, self.real_area(log_a_l), breakdown)
+
+
+def _paper_correction(density: PowerLaw, ratio: PowerLaw, lower, upper, quadrature: str, options: dict):
+    """`∫ k₀ n r/(1-r) da` over each regime with stiffness (interaction "paper", `regime_stiffness`).
+
+    `density` and `ratio` are `k₀ n a` and `r` as laws in `t = ln a`. With `u = r(a)`,
+    `r/(1-r) = Σ_{j=1..k} u^j + u^(k+1)/(1-u)`: the powers are closed forms, and the remainder is
+    `C ∫ u^p/(1-u) du` with `C = e^(d - δr/q) / q` and `p = δ/q + k` (`d, δ`: the density's
+    log-coefficient and rate; `r, q`: the ratio's).
+    """
+    d, r = density, ratio
+    j = jnp.arange(1, _GEOMETRIC_TERMS + 1, dtype=lower.dtype)[:, None]
+    powers = unrolled_sum(exponential_integral(d.log_coeff + j * r.log_coeff, d.exponent + j * r.exponent,
+                                               lower, upper).T)
+    if quadrature != "power-series":
+        return powers + _remainder_by_quadrature(d, r, lower, upper, options)
+    pole = PoleIntegral.build(d.exponent / r.exponent + _GEOMETRIC_TERMS)
+    log_coeff = d.log_coeff - d.exponent * r.log_coeff / r.exponent
+    remainder = pole(r.log_coeff + r.exponent * upper, log_coeff) - pole(r.log_coeff + r.exponent * lower, log_coeff)
+    # The integrand is positive: a difference below 0 is round-off between two nearly equal ends,
+    # and an empty interval is exactly 0 (its ends may even lie past the pole, where a_min itself
+    # is beyond breakdown). Dividing by q last (not `- ln q` in the exponent) ends the sum in a
+    # division, which XLA computes once and shares, where it would copy the cheap polynomial
+    # work into every output that uses the stiffness.
+    return powers + jnp.where(upper > lower, jnp.maximum(remainder, 0.0), 0.0) / r.exponent
+
+
+def _remainder_by_quadrature(density: PowerLaw, ratio: PowerLaw, lower, upper, options: dict):
+    """The remainder `C ∫ u^p/(1-u) du` of `_paper_correction` by quadrature.
+
+    In `w = -ln(1-u)` it is `∫ C u^p dw`: bounded and smooth, over an interval that grows only
+    like `-ln(1 - r_max)` as the pole approaches. `pole_integral` does the same integral exactly;
+    this is its cross-check and the accuracy study's quadrature knob.
+    """
+    d_log, d_rate, r_log, r_rate = density.log_coeff, density.exponent, ratio.log_coeff, ratio.exponent
+    # u < 1 inside every interval the caller keeps; an empty one may lie past the pole (a_min
+    # beyond breakdown), and is clamped there so that its zero length still gives exactly 0.
+    below_pole = -float(jnp.finfo(lower.dtype).eps)
+    w_lo = -jnp.log1p(-jnp.exp(jnp.minimum(r_log + r_rate * lower, below_pole)))
+    w_hi = -jnp.log1p(-jnp.exp(jnp.minimum(r_log + r_rate * upper, below_pole)))
+    log_coeff = d_log - d_rate * r_log / r_rate - jnp.log(r_rate)
+    power = d_rate / r_rate + _GEOMETRIC_TERMS
+    tiny = float(jnp.finfo(lower.dtype).tiny)
+
+    def remainder(w, log_coeff, power):
+        # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the floor
+        # gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would stop XLA from
+        # vectorising the loop.
+        u = jnp.maximum(-jnp.expm1(-w), tiny)
+        return jnp.exp(log_coeff + power * jnp.log(u))
+
+    return integrate_rows(remainder, (log_coeff, power), w_lo, w_hi, **options)

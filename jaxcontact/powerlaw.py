@@ -82,6 +82,9 @@ class PowerLaw(eqx.Module):
     def __truediv__(self, other: "PowerLaw") -> "PowerLaw":
         return PowerLaw(self.log_coeff - other.log_coeff, self.exponent - other.exponent)
 
+    def __getitem__(self, index) -> "PowerLaw":
+        return PowerLaw(self.log_coeff[index], self.exponent[index])
+
     def scaled(self, log_factor) -> "PowerLaw":
         """The law times `exp(log_factor)`."""
         return PowerLaw(self.log_coeff + log_factor, self.exponent)

@@ -14,7 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 import quadax
 
-QUADRATURES = ("gauss-legendre", "adaptive")
+QUADRATURES = ("power-series", "gauss-legendre", "adaptive")
 
 
 @functools.lru_cache(maxsize=None)

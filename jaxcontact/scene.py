@@ -29,11 +29,14 @@ class Scene(eqx.Module):
     - `distribution`: "mb" (Majumdar–Bhushan, Eq. 30) or "wk" (Wang–Komvopoulos correction).
     - `regime_shares`: whether to split load and stiffness by regime (`Solution.load_share`,
       `stiffness_share`); with False those fields are None and nothing is spent on them.
-    - `quadrature_nodes`: Gauss–Legendre nodes per regime for the interaction stiffness (static);
-      16 (the default) are within 3e-12 of an mpmath reference up to 0.9998 of the breakdown
-      load and 1.4e-11 at 0.99999; 24 reach K's own conditioning there (`jaxcontact accuracy`).
-    - `quadrature`: "gauss-legendre" (fixed nodes, default) or "adaptive" (quadax Gauss–Kronrod to
-      relative `quadrature_tolerance`); see `jaxcontact accuracy` for what each costs.
+    - `quadrature`: how the one integral without a closed form, the interaction part of the
+      stiffness, is done. "power-series" (the default for "paper"): its pole term summed to
+      round-off (`pole_integral`), no nodes. "gauss-legendre" (the default for "series"):
+      `quadrature_nodes` fixed nodes per regime. "adaptive": quadax Gauss–Kronrod to relative
+      `quadrature_tolerance`. See `jaxcontact accuracy` for what each costs.
+    - `quadrature_nodes`: Gauss–Legendre nodes per regime (static). For "paper", 16 are within
+      3e-12 of an mpmath reference up to 0.9998 of the breakdown load and 24 reach K's own
+      conditioning there.
     - `max_steps`: cap on the a_l solve's Newton/bisection steps (static).
     - `solver_tolerance`: tolerance on `ln a_l`; `None` picks 64 ε of the working dtype (static).
 
@@ -57,7 +60,7 @@ class Scene(eqx.Module):
 
     def __init__(self, surface: Surface, material: Material, area, model: str = "xia2024",
                  interaction: str | None = None, distribution: str = "mb", regime_shares: bool = True,
-                 quadrature_nodes: int = 16, quadrature: str = "gauss-legendre", quadrature_tolerance: float = 1e-10,
+                 quadrature_nodes: int = 16, quadrature: str | None = None, quadrature_tolerance: float = 1e-10,
                  max_steps: int = 64, solver_tolerance: float | None = None):
         if not isinstance(surface, Surface):
             raise ValueError(f"surface must be a jaxcontact.Surface, got {type(surface).__name__}")
@@ -75,7 +78,12 @@ class Scene(eqx.Module):
             raise ValueError(f"regime_shares = {regime_shares!r} must be true or false")
         if not isinstance(quadrature_nodes, int) or not 2 <= quadrature_nodes <= 1024:
             raise ValueError(f"quadrature_nodes = {quadrature_nodes!r} must be an integer in [2, 1024]")
+        if quadrature is None:
+            quadrature = "power-series" if interaction == "paper" else "gauss-legendre"
         check_choice("quadrature", quadrature, QUADRATURES)
+        if quadrature == "power-series" and interaction not in ("paper", "none"):
+            raise ValueError(f"quadrature = 'power-series' applies to interaction 'paper' only (got interaction = "
+                             f"{interaction!r}); use 'gauss-legendre' or 'adaptive'")
         if not 0.0 < quadrature_tolerance < 1e-1:
             raise ValueError(f"quadrature_tolerance = {quadrature_tolerance!r} must be in (0, 0.1)")
         if not isinstance(max_steps, int) or not 1 <= max_steps <= 10_000:

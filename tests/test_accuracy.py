@@ -21,11 +21,13 @@ def test_mpmath_reference_matches_the_conformance_vectors():
 def test_quick_study_orders_the_node_counts():
     result = study(make_scene(**TABLE1), quick=True)
     errors = {r["knob"]: r["max_rel_error"] for r in result["rows"]}
-    four, default, thirty_two = (errors[f"Gauss–Legendre, {n} nodes"] for n in (4, 16, 32))
-    assert four > 1e-4 > default > thirty_two  # near breakdown 4 nodes are visibly wrong
-    assert default < 1e-11
-    assert thirty_two < 1e-12  # round-off amplified by K's conditioning 0.9998 of the way to breakdown
-    assert [r["default"] for r in result["rows"]] == [False, True, False]
+    four, sixteen, thirty_two = (errors[f"Gauss–Legendre, {n} nodes"] for n in (4, 16, 32))
+    series = errors["power series of the pole term (no nodes)"]
+    assert four > 1e-4 > sixteen > thirty_two  # near breakdown 4 nodes are visibly wrong
+    assert sixteen < 1e-11
+    # Round-off amplified by K's conditioning 0.9998 of the way to breakdown.
+    assert thirty_two < 1e-12 and series < 1e-12
+    assert [r["default"] for r in result["rows"]] == [True, False, False, False]
     assert all(r["ms_per_1000_loads"] > 0 for r in result["rows"])
 
 

@@ -46,12 +46,16 @@ def test_without_interaction_the_pressure_never_reaches_the_stiffness():
 def test_interaction_quadrature_only_when_asked():
     nodes = 37  # an unusual count, so that no other array has this trailing size
     counts = {}
-    for interaction in ("none", "paper"):
-        closed, eqns = program(make_scene(**TABLE1, interaction=interaction, quadrature_nodes=nodes))
-        counts[interaction] = len(eqns)
-        assert has_quadrature_nodes(closed, eqns, nodes) == (interaction != "none")
-    # The a_l solve dominates the program; the interaction adds ~70 equations (838 vs 905 here).
-    assert counts["paper"] - counts["none"] >= 40, counts
+    for interaction, quadrature in (("none", None), ("paper", "gauss-legendre"), ("series", None), ("paper", None)):
+        scene = make_scene(**TABLE1, interaction=interaction, quadrature=quadrature, quadrature_nodes=nodes)
+        closed, eqns = program(scene)
+        counts[interaction, scene.quadrature] = len(eqns)
+        # The default for "paper" sums the pole term's series: no nodes at all.
+        expected = interaction != "none" and scene.quadrature == "gauss-legendre"
+        assert has_quadrature_nodes(closed, eqns, nodes) == expected, (interaction, scene.quadrature)
+    # The a_l solve dominates the program; the interaction adds equations however it is integrated.
+    assert counts["paper", "gauss-legendre"] - counts["none", "gauss-legendre"] >= 40, counts
+    assert counts["paper", "power-series"] - counts["none", "gauss-legendre"] >= 40, counts
 
 
 def test_regime_shares_only_when_asked():

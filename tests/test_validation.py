@@ -47,6 +47,8 @@ def test_arrays_are_checked_elementwise():
     (dict(distribution="gauss"), r"distribution = 'gauss' is not one of 'mb', 'wk'"),
     (dict(model="jzz2010", interaction="paper"), r"applies to model 'xia2024' only"),
     (dict(quadrature_nodes=1), r"quadrature_nodes = 1"),
+    (dict(quadrature="simpson"), r"quadrature = 'simpson' is not one of 'power-series', 'gauss-legendre', 'adaptive'"),
+    (dict(interaction="series", quadrature="power-series"), r"'power-series' applies to interaction 'paper' only"),
     (dict(max_steps=0), r"max_steps = 0"),
 ])
 def test_scene(kw, pattern):
