@@ -210,8 +210,9 @@ def _paper_correction(density: PowerLaw, ratio: PowerLaw, lower, upper, quadratu
     # The integrand is positive: a difference below 0 is round-off between two nearly equal ends,
     # and an empty interval is exactly 0 (its ends may even lie past the pole, where a_min itself
     # is beyond breakdown). Dividing by q last (not `- ln q` in the exponent) ends the sum in a
-    # division, which XLA computes once and shares, where it would copy the cheap polynomial
-    # work into every output that uses the stiffness.
+    # division, which XLA computes once and shares instead of copying the polynomial work into
+    # every output that uses the stiffness (1.3x for a whole Solution, measured when each regime
+    # was its own chain of operations).
     return powers + jnp.where(upper > lower, jnp.maximum(remainder, 0.0), 0.0) / r.exponent
 
 
