@@ -22,8 +22,8 @@ import math
 
 import equinox as eqx
 import jax
-import numpy as np
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 # u^48 / (1 - u) at u = 1/2 is 7e-15 of the first term; |C(p, k)| / k falls at least like k^(-4).
@@ -73,9 +73,9 @@ class PoleIntegral(eqx.Module):
     """`e^c J_p(u)` for a fixed power `p ≥ 0` (one per regime; arrays of powers broadcast).
 
     **Fields:** `power`, `p`; `coefficients`, the two expansions' economised coefficients (of
-    `Σ x^n/(p + 1 + n)` and `Σ (-1)^(k+1) C(p, k) x^k/k`) and `H_p`; `slopes`, their derivatives in `p`. Build with
-    `PoleIntegral.build(power)`: the coefficients must be those of `power`, because derivatives
-    with respect to `p` are taken through `power` and `slopes` alone.
+    `Σ x^n/(p + 1 + n)` and `Σ (-1)^(k+1) C(p, k) x^k/k`) and `H_p`; `slopes`, their derivatives
+    in `p`. Build with `PoleIntegral.build(power)`: the coefficients must be those of `power`,
+    because derivatives with respect to `p` are taken through `power` and `slopes` alone.
     """
 
     power: Float[Array, "*rows"]
@@ -116,38 +116,38 @@ def _series(near_zero, near_one, small, x):
     return series
 
 
-def _parts(power, log_u):
+def _evaluate(power, coefficients, log_u, log_coeff):
+    """The value, and what its derivative rule reuses: the lanes' split and variable, the scales."""
+    near_zero, near_one, harmonic = coefficients
     small = log_u <= _LOG_SWITCH
     log_u_large = jnp.maximum(log_u, _LOG_SWITCH)
     v = -jnp.expm1(log_u_large)  # 1 - u, without losing digits as u → 1
     x = jnp.where(small, jnp.exp(jnp.minimum(log_u, _LOG_SWITCH)), v)
     # u^-(p+1) on the near-one side, where u ≥ 1/2 keeps it bounded.
     inverse_power = jnp.exp(-(power + 1.0) * log_u_large)
-    return small, log_u_large, v, x, inverse_power
-
-
-# Its own derivative rule. d/d ln u is the integrand, in closed form; d/dp is the same series
-# with the coefficients' slopes. Differentiating the 48 unrolled steps instead (and, in reverse
-# mode, every coefficient separately) made gradients several times slower to compile and run.
-@jax.custom_jvp
-def _scaled_pole_integral(power, coefficients, slopes, log_u, log_coeff):
-    near_zero, near_one, harmonic = coefficients
-    small, _, v, x, inverse_power = _parts(power, log_u)
-    series = _series(near_zero, near_one, small, x)
-    scaled = jnp.where(small, series, (-jnp.log(v) - harmonic + series) * inverse_power)
-    return jnp.exp(log_coeff + (power + 1.0) * log_u) * scaled
-
-
-@_scaled_pole_integral.defjvp
-def _scaled_pole_integral_jvp(primals, tangents):
-    power, (near_zero, near_one, harmonic), (near_zero_slope, near_one_slope, harmonic_slope), log_u, log_coeff = primals
-    # The coefficients' own tangents are ṗ times their slopes: they are taken through `power`.
-    power_dot, _, _, log_u_dot, log_coeff_dot = tangents
-    small, log_u_large, v, x, inverse_power = _parts(power, log_u)
     series = _series(near_zero, near_one, small, x)
     near_one_scaled = (-jnp.log(v) - harmonic + series) * inverse_power
     scale = jnp.exp(log_coeff + (power + 1.0) * log_u)
     value = scale * jnp.where(small, series, near_one_scaled)
+    return value, (small, log_u_large, x, inverse_power, near_one_scaled, scale)
+
+
+# Its own derivative rule. d/d ln u is the integrand, in closed form; d/dp is the same series
+# with the coefficients' slopes. Differentiating the unrolled Horner steps instead (and, in reverse
+# mode, every coefficient separately) made gradients several times slower to compile and run.
+@jax.custom_jvp
+def _scaled_pole_integral(power, coefficients, slopes, log_u, log_coeff):
+    del slopes
+    return _evaluate(power, coefficients, log_u, log_coeff)[0]
+
+
+@_scaled_pole_integral.defjvp
+def _scaled_pole_integral_jvp(primals, tangents):
+    power, coefficients, (near_zero_slope, near_one_slope, harmonic_slope), log_u, log_coeff = primals
+    # The coefficients' own tangents are ṗ times their slopes: they are taken through `power`.
+    power_dot, _, _, log_u_dot, log_coeff_dot = tangents
+    value, (small, log_u_large, x, inverse_power, near_one_scaled, scale) = _evaluate(power, coefficients, log_u,
+                                                                                     log_coeff)
     # ∂/∂p at fixed ln u: through the coefficients, and through u^(p+1) and u^-(p+1).
     series_slope = _series(near_zero_slope, near_one_slope, small, x)
     scaled_slope = jnp.where(small, series_slope,

@@ -109,8 +109,8 @@ def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps:
 def _root(fn, tolerance, max_steps, unrolled_steps, y0, lower, upper, args):
     y, state = y0, None
     for _ in range(unrolled_steps):
-        bracket = (lower, upper) if state is None else (state.lower, state.upper)
-        y, state, _ = _safeguarded_newton(fn, y, args, *bracket)
+        y, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
+        lower, upper = state.lower, state.upper
     options = dict(lower=lower, upper=upper) if state is None else dict(state=state)
     if max_steps == unrolled_steps:
         converged = jnp.abs(state.step) < tolerance * (1.0 + jnp.abs(y))
