@@ -17,7 +17,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import ArrayLike, Float
+from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ._elementwise import unrolled_sum
 from ._validate import concrete
@@ -62,6 +62,37 @@ def _working_dtype(scene: Scene, loads):
     return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
 
 
+# Any valid scene (Table 1's): where a scene's parameters are out of their domain, the model is
+# evaluated at these instead, so that nothing it computes is NaN.
+_STAND_IN = dict(D=1.4058, G=2.2826e-10, l_min=1e-9, E=220e9, nu=0.25, H=100e9, area=1e-4)
+
+
+def _float_fields(scene: Scene):
+    s, m = scene.surface, scene.material
+    return s.D, s.G, s.l_min, m.E, m.nu, m.H, scene.area
+
+
+def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
+    """The scene, with stand-in values if any float parameter is outside its domain; and whether none is.
+
+    Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
+    Evaluated as they are, such parameters give NaN, and a NaN inside the computation leaks into
+    gradients even where the result is masked (0 · NaN). Evaluated at a valid stand-in (and
+    flagged), masked points contribute exactly zero.
+    """
+    D, G, l_min, E, nu, H, area = _float_fields(scene)
+    inside = ((D > 1.0) & (D < 2.0) & (G > 0) & (l_min > 0) & (E > 0) & (H > 0) & (nu >= 0) & (nu < 0.5)
+              & (area > 0) & (l_min * l_min < area))  # the last: a_min* < 1
+    values = tuple(jnp.where(inside, x, _STAND_IN[name])
+                   for x, name in zip((D, G, l_min, E, nu, H, area), ("D", "G", "l_min", "E", "nu", "H", "area")))
+    return eqx.tree_at(_float_fields, scene, values), inside
+
+
+def _masked(mask, value, scale=1.0):
+    """`value · scale` where `mask`, NaN elsewhere; at masked points every derivative is 0, not NaN."""
+    return jnp.where(mask, jnp.where(mask, value, 0.0) * scale, jnp.nan)
+
+
 class PointResult(eqx.Module):
     """One load point, dimensionless: `ln a_l*`, the joint's response there, and the status."""
 
@@ -83,6 +114,7 @@ def point_solver(scene: Scene):
     `F_t` at the kinks that bracket each piece) is computed here, so that callers that evaluate
     K(F) many times (`approach`, `dynamics`) pay for it once.
     """
+    scene, in_domain = within_domain(scene)
     joint = make_joint(scene)
     dtype = jnp.result_type(joint.log_a_min)
     tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
@@ -91,11 +123,7 @@ def point_solver(scene: Scene):
     log_load_highest = pieces.knot_log_loads[-1]
     # Failed points are solved at a harmless stand-in: the load that puts a_l midway (in logs).
     log_load_middle = jnp.log(joint.total_load(0.5 * joint.log_a_min))
-    # Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
-    s, m = scene.surface, scene.material
-    parameters_valid = ((s.D > 1.0) & (s.D < 2.0) & (s.G > 0) & (s.l_min > 0) & (m.E > 0) & (m.H > 0)
-                        & (m.nu >= 0) & (m.nu < 0.5) & (scene.area > 0) & (joint.log_a_min < 0)
-                        & jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle))
+    parameters_valid = in_domain & jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle)
 
     def one_point(F_star) -> PointResult:
         valid = jnp.isfinite(F_star) & (F_star > 0)
@@ -120,38 +148,36 @@ def point_solver(scene: Scene):
 
 @eqx.filter_jit
 def _solve(scene: Scene, loads):
-    dtype = loads.dtype
-    E, area = scene.material.E, scene.area
+    # The scales too come from the stand-in where the scene is out of its domain (the points are
+    # flagged by `point_solver`, which is handed the scene as it is).
+    guarded, _ = within_domain(scene)
+    E, area = guarded.material.E, guarded.area
     load_star = loads / (E * area)
-    one_point = point_solver(scene)
-    points = jax.vmap(one_point)(load_star.reshape(-1))
+    points = jax.vmap(point_solver(scene))(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
-    nan = jnp.array(jnp.nan, dtype)
     solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
     ok = status == Status.OK
     stiffness_total = unrolled_sum(response.regime_stiffness)
-    a_l_star = jnp.where(solved, jnp.exp(log_a_l), nan)
-    stiffness_star = jnp.where(ok, stiffness_total, nan)
-    real_area_star = jnp.where(solved, response.real_area, nan)
+    a_l_star = jnp.exp(log_a_l)
     load_share = stiffness_share = None
     if scene.regime_shares:
-        load_total = unrolled_sum(response.regime_load)[:, None]
-        positive = jnp.where(stiffness_total > 0, stiffness_total, 1.0)[:, None]  # K = 0: all plastic
-        load_share = jnp.where(solved[:, None], response.regime_load / load_total, nan).reshape(shape + (4,))
-        stiffness_share = jnp.where(ok[:, None], response.regime_stiffness / positive, nan).reshape(shape + (4,))
+        load_total = jnp.where(solved, unrolled_sum(response.regime_load), 1.0)[:, None]
+        positive = jnp.where(ok & (stiffness_total > 0), stiffness_total, 1.0)[:, None]  # K = 0: all plastic
+        load_share = _masked(solved[:, None], response.regime_load / load_total).reshape(shape + (4,))
+        stiffness_share = _masked(ok[:, None], response.regime_stiffness / positive).reshape(shape + (4,))
     return Solution(
         load=loads,
-        a_l=(a_l_star * area).reshape(shape),
-        stiffness=(stiffness_star * E * jnp.sqrt(area)).reshape(shape),
-        real_area=(real_area_star * area).reshape(shape),
+        a_l=_masked(solved, a_l_star, area).reshape(shape),
+        stiffness=_masked(ok, stiffness_total, E * jnp.sqrt(area)).reshape(shape),
+        real_area=_masked(solved, response.real_area, area).reshape(shape),
         status=status.reshape(shape),
         load_share=load_share,
         stiffness_share=stiffness_share,
         load_star=load_star,
-        stiffness_star=stiffness_star.reshape(shape),
-        real_area_star=real_area_star.reshape(shape),
-        a_l_star=a_l_star.reshape(shape),
+        stiffness_star=_masked(ok, stiffness_total).reshape(shape),
+        real_area_star=_masked(solved, response.real_area).reshape(shape),
+        a_l_star=_masked(solved, a_l_star).reshape(shape),
     )
 
 

@@ -10,6 +10,7 @@ jax.config.update("jax_enable_x64", True)
 
 import pathlib  # noqa: E402
 
+import equinox as eqx  # noqa: E402
 import pytest  # noqa: E402
 
 import jaxcontact as jc  # noqa: E402
@@ -27,6 +28,40 @@ def make_scene(D, G, E, nu, H, area, l_min, **kw):
     return jc.Scene(jc.Surface(D=D, G=G, l_min=l_min), jc.Material(E=E, nu=nu, H=H), area, **kw)
 
 
+# Every float field of a scene, for differentiating with respect to all of them at once.
+PARAMS = ("D", "G", "E", "H", "l_min", "nu", "area")
+GETTERS = {
+    "D": lambda s: s.surface.D, "G": lambda s: s.surface.G, "l_min": lambda s: s.surface.l_min,
+    "E": lambda s: s.material.E, "H": lambda s: s.material.H, "nu": lambda s: s.material.nu,
+    "area": lambda s: s.area,
+}
+
+
+def with_params(scene, values):
+    """The scene with its float fields set to `values` (ordered as `PARAMS`)."""
+    for name, v in zip(PARAMS, values):
+        scene = eqx.tree_at(GETTERS[name], scene, v)
+    return scene
+
+
+def params_of(scene):
+    return jax.numpy.array([float(GETTERS[p](scene)) for p in PARAMS])
+
+
 @pytest.fixture(scope="session")
 def table1_scene():
     return make_scene(**TABLE1)
+
+
+# Module-level jitted helpers, so that joints of one structure share a compile: run eagerly,
+# each of the hundreds of operations in a joint's integrals would be compiled on its own.
+@eqx.filter_jit
+def total_loads(joint, log_a_l):
+    """F_t*(a_l) at each ln a_l* (Eq. 30)."""
+    return jax.vmap(joint.total_load)(log_a_l)
+
+
+@eqx.filter_jit
+def log_total_load_slopes(joint, log_a_l):
+    """d ln F_t*/d ln a_l* at each ln a_l*."""
+    return jax.vmap(jax.grad(lambda x: jax.numpy.log(joint.total_load(x))))(log_a_l)

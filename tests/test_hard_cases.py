@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import PARAMS, TABLE1, make_scene, params_of, with_params
 
 import jaxcontact as jc
 from jaxcontact.scipy_baseline import BaselineParameters, solve_point
@@ -103,13 +103,16 @@ def test_mixed_batch_keeps_good_points_and_their_gradients():
     assert np.isnan(float(sol.stiffness[1])) and np.isnan(float(sol.stiffness[3]))
     assert np.isfinite(float(sol.a_l[1])) and np.isnan(float(sol.a_l[3]))  # breakdown still has a_l
 
-    def masked_total(D, loads):
-        s = jc.solve(eqx.tree_at(lambda sc: sc.surface.D, scene, D), loads)
+    # With respect to every parameter: the scales E and A_a too, which multiply the flagged
+    # points' NaN unless the masking is done with care.
+    def masked_total(theta, loads):
+        s = jc.solve(with_params(scene, theta), loads)
         return jnp.sum(jnp.where(s.status == 0, s.stiffness, 0.0))
 
-    g_batch = jax.grad(masked_total)(1.5, batch)
-    g_good = jax.grad(masked_total)(1.5, good)
-    assert np.isfinite(g_batch)
+    theta = params_of(scene)
+    g_batch = jax.grad(masked_total)(theta, batch)
+    g_good = jax.grad(masked_total)(theta, good)
+    assert np.all(np.isfinite(g_batch)) and np.all(g_good != 0)
     np.testing.assert_allclose(g_batch, g_good, rtol=1e-12)
 
 
@@ -157,17 +160,22 @@ def test_float32_does_not_overflow_at_extreme_D():
 
 
 def test_traced_parameters_outside_their_domain_are_flagged_not_raised():
-    """An optimiser may step to D = 2 exactly: every point says so, and differentiation still runs."""
+    """An optimiser may step to D = 2 exactly: every point says so, and the masked gradient is 0, not NaN."""
     scene = make_scene(**TABLE1)
 
-    def total(D):
-        s = jc.solve(eqx.tree_at(lambda sc: sc.surface.D, scene, D), jnp.array([2.2, 22.0]))
+    def total(theta):
+        s = jc.solve(with_params(scene, theta), jnp.array([2.2, 22.0]))
         return jnp.sum(jnp.where(s.status == 0, s.stiffness, 0.0)), s.status
 
-    for D in (2.0, 1.0, jnp.nan):
-        (value, status), grad = jax.jit(jax.value_and_grad(total, has_aux=True))(jnp.asarray(D))
-        np.testing.assert_array_equal(status, [jc.Status.INVALID_PARAMETERS] * 2)
-        assert float(value) == 0.0
+    value_and_grad = jax.jit(jax.value_and_grad(total, has_aux=True))  # one compile for every case
+    theta = params_of(scene)
+    cases = [("D", 2.0), ("D", 1.0), ("D", np.nan), ("G", 0.0), ("E", -1.0), ("H", 0.0), ("nu", 0.5), ("area", 0.0),
+             ("l_min", 0.02)]  # l_min² > A_a
+    for name, value in cases:
+        (total_value, status), grad = value_and_grad(theta.at[PARAMS.index(name)].set(value))
+        np.testing.assert_array_equal(status, [jc.Status.INVALID_PARAMETERS] * 2, err_msg=name)
+        assert float(total_value) == 0.0
+        np.testing.assert_array_equal(grad, 0.0, err_msg=name)
 
 
 @pytest.mark.parametrize("D, G, E, nu, H", [(1.4058, 2.2826e-10, 220e9, 0.25, 100e9), (1.75, 5e-11, 7e10, 0.33, 1.2e9)])
