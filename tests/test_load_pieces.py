@@ -1,14 +1,23 @@
 """F_t(a_l) piece by piece (the a_l solve's residual) against the joint's full regime sums."""
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import TABLE1, log_total_load_slopes, make_scene, total_loads
 
 import jaxcontact as jc
 from jaxcontact.load_pieces import GenericLoadPieces, PowerLawLoadPieces
 from jaxcontact.solve import make_joint, prepare
+
+
+@eqx.filter_jit
+def piece_log_loads(pieces, log_a_l, piece):
+    """ln F_t* on one piece, and its slope in ln a_l*."""
+    def log_load(x):
+        return pieces.log_load(x, piece)
+    return jax.vmap(log_load)(log_a_l), jax.vmap(jax.grad(log_load))(log_a_l)
 
 
 def joint_of(**kw):
@@ -23,28 +32,24 @@ def test_closed_form_pieces_equal_the_full_regime_sums(D, distribution):
     assert isinstance(pieces, PowerLawLoadPieces)
     knots = np.asarray(pieces.knots)
     assert np.all(np.diff(knots) >= 0) and knots[0] == float(joint.log_a_min) and knots[-1] == 0.0
-    np.testing.assert_allclose(pieces.knot_log_loads[1:], np.log(jax.vmap(joint.total_load)(pieces.knots[1:])),
+    np.testing.assert_allclose(pieces.knot_log_loads[1:], np.log(total_loads(joint, pieces.knots[1:])),
                                rtol=1e-13)
     for piece in range(4):
         lo, hi = knots[piece], knots[piece + 1]
         if hi <= lo:
             continue
         x = jnp.linspace(lo, hi, 9)[1:]
-        want = jnp.log(jax.vmap(joint.total_load)(x))
-        got = jax.vmap(lambda v: pieces.log_load(v, jnp.int32(piece)))(x)
-        np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-13)
+        got, slope = piece_log_loads(pieces, x, jnp.int32(piece))
+        np.testing.assert_allclose(got, jnp.log(total_loads(joint, x)), rtol=1e-13, atol=1e-13)
         # The slope too (inside the piece: at a kink the full sum has no single slope).
-        x = x[:-1]
-        slope = jax.vmap(jax.grad(lambda v: pieces.log_load(v, jnp.int32(piece))))(x)
-        want_slope = jax.vmap(jax.grad(lambda v: jnp.log(joint.total_load(v))))(x)
-        np.testing.assert_allclose(slope, want_slope, rtol=1e-11)
+        np.testing.assert_allclose(slope[:-1], log_total_load_slopes(joint, x[:-1]), rtol=1e-11)
 
 
 def test_locate_brackets_the_solution():
     joint = joint_of()
     pieces = joint.load_pieces()
     log_loads = jnp.linspace(float(pieces.knot_log_loads[1]) - 8.0, float(pieces.knot_log_loads[-1]) - 1e-6, 400)
-    piece, lower, upper, guess = jax.vmap(pieces.locate)(log_loads)
+    piece, lower, upper, guess = eqx.filter_jit(jax.vmap(pieces.locate))(log_loads)
     scene = make_scene(**TABLE1, interaction="none")
     root = np.log(np.asarray(jc.solve(scene, np.exp(np.asarray(log_loads)) * TABLE1["E"] * TABLE1["area"]).a_l_star))
     assert np.all((lower <= root + 1e-12) & (root <= upper + 1e-12))
@@ -69,5 +74,5 @@ def test_hard_loads_fall_back_to_the_optimistix_loop():
     np.testing.assert_array_equal(full.status, 0)
     # F_t(a_l) reproduces every load.
     joint = joint_of(interaction="none")
-    F = jax.vmap(joint.total_load)(jnp.log(full.a_l_star))
+    F = total_loads(joint, jnp.log(full.a_l_star))
     np.testing.assert_allclose(F, full.load_star, rtol=1e-12)

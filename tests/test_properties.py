@@ -1,9 +1,8 @@
 """Property-based tests over the valid domain (hypothesis)."""
 
-import jax
 import jax.numpy as jnp
 import numpy as np
-from conftest import make_scene
+from conftest import make_scene, total_loads
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -51,6 +50,6 @@ def test_outputs_are_finite_or_flagged(D, log10_G_star, E, nu, H_over_E, log10_l
 def test_total_load_increases_with_largest_spot(D, log10_G_star, E, nu, H_over_E, log10_l_min):
     joint = jc.make_joint(scene_of(D, log10_G_star, E, nu, H_over_E, log10_l_min, "paper"))
     log_a_l = jnp.linspace(float(joint.log_a_min), 0.0, 200)[1:]
-    F = np.asarray(jax.vmap(joint.total_load)(log_a_l))
+    F = np.asarray(total_loads(joint, log_a_l))
     assert np.all(np.isfinite(F)) and np.all(F > 0)
     assert np.all(np.diff(F) > 0)
