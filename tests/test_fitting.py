@@ -50,6 +50,17 @@ def test_lbfgs_and_lm_agree_on_noisy_data(table1):
     np.testing.assert_allclose(lbfgs.values["G"], lm.values["G"], rtol=1e-5)
 
 
+def test_a_single_lm_start_converges(table1):
+    """The bench's 30-point curve from one start: LM's default tolerance must sit above the
+    round-off of its steps along the D–G valley (at 1e-12 it wandered for all 400 iterations)."""
+    from jaxcontact.bench import _data
+
+    loads, K = _data(table1)
+    result = fitting.fit(loads, K, make_scene(**dict(START, D=1.5)), method="lm", n_starts=1)
+    assert result.success and result.iterations < 50, (result.iterations, result.summary())
+    assert abs(result.values["D"] - TRUTH["D"]) < 0.01
+
+
 def test_generated_file_is_reproducible_and_fits_within_tolerance(table1):
     curve = fitting.load_curve(ROOT / "data" / "table1_grinding_generated.csv", table1)
     loads, K = table1_generated(table1)
