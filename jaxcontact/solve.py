@@ -62,8 +62,8 @@ def _working_dtype(scene: Scene, loads):
     return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
 
 
-# Any valid scene (Table 1's): where a scene's parameters are out of their domain, the model is
-# evaluated at these instead, so that nothing it computes is NaN.
+# Any valid scene (Table 1's), in the order of `_float_fields`: where a scene's parameters are out
+# of their domain, the model is evaluated at these instead, so that nothing it computes is NaN.
 _STAND_IN = dict(D=1.4058, G=2.2826e-10, l_min=1e-9, E=220e9, nu=0.25, H=100e9, area=1e-4)
 
 
@@ -80,11 +80,11 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     gradients even where the result is masked (0 · NaN). Evaluated at a valid stand-in (and
     flagged), masked points contribute exactly zero.
     """
-    D, G, l_min, E, nu, H, area = _float_fields(scene)
+    fields = _float_fields(scene)
+    D, G, l_min, E, nu, H, area = fields
     inside = ((D > 1.0) & (D < 2.0) & (G > 0) & (l_min > 0) & (E > 0) & (H > 0) & (nu >= 0) & (nu < 0.5)
               & (area > 0) & (l_min * l_min < area))  # the last: a_min* < 1
-    values = tuple(jnp.where(inside, x, _STAND_IN[name])
-                   for x, name in zip((D, G, l_min, E, nu, H, area), ("D", "G", "l_min", "E", "nu", "H", "area")))
+    values = tuple(jnp.where(inside, x, stand_in) for x, stand_in in zip(fields, _STAND_IN.values()))
     return eqx.tree_at(_float_fields, scene, values), inside
 
 
