@@ -239,12 +239,13 @@ def fit(loads, stiffness, scene: jc.Scene, params=("D", "G"), method: str = "lbf
         starts = np.atleast_2d(np.asarray(starts, dtype=float))
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene, _ = prepare(scene, loads)
-    u_all, losses, counts, converged = _multistart(method, traced_scene, fitted, _padded_curve(loads, stiffness, dtype),
-                                                   jnp.asarray(u0s, dtype), max_iter, tol)
+    data = _padded_curve(loads, stiffness, dtype)
+    u_all, losses, counts, converged = _multistart(method, traced_scene, fitted, data, jnp.asarray(u0s, dtype),
+                                                   max_iter, tol)
     losses = np.asarray(losses)
     best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.inf)))
     stat_hat = _stat_from_u(fitted, u_all[best])
-    result = _statistics(traced_scene, fitted, loads, stiffness, stat_hat, np.asarray(u_all[best]))
+    result = _statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
     success = bool(converged[best]) and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
     warnings = list(result["warnings"]) + _rival_optima(fitted, u_all, losses, best, loads.size, result)
     if not bool(converged[best]):
@@ -294,9 +295,12 @@ def _inner(p: FitParameter):
     return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
 
 
-def _statistics(scene, params, loads, stiffness, stat_hat, u_hat) -> dict:
-    """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum."""
-    padded_loads, log_stiffness, _ = _padded_curve(loads, stiffness, jnp.result_type(stat_hat))
+def _statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
+    """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
+
+    `loads` is the curve as given; `data` is `_padded_curve`'s, whose padding is cut off here.
+    """
+    padded_loads, log_stiffness, _ = data
     r, ok, status, J = (np.asarray(x)[:loads.size]
                         for x in _residuals_and_jacobian(stat_hat, scene, params, padded_loads, log_stiffness))
     warnings = []
