@@ -88,6 +88,10 @@ class PoleIntegral(eqx.Module):
         coefficients, slopes = jax.jvp(_coefficients, (power,), (jnp.ones_like(power),))
         return cls(power, coefficients, slopes)
 
+    def __getitem__(self, index) -> "PoleIntegral":
+        """The integral(s) of the powers `power[index]`."""
+        return jax.tree.map(lambda x: x[index], self)
+
     def __call__(self, log_u: Float[ArrayLike, "*rows"], log_coeff: Float[ArrayLike, "*rows"]):
         """`e^log_coeff · J_p(u)` for `0 < u < 1`, given `ln u`.
 

@@ -46,9 +46,10 @@ def integrate_rows(integrand, row_args, log_lower, log_upper, *, method: str, no
     **Arguments:**
 
     - `integrand`: elementwise in `t` and in the row arguments (it broadcasts).
-    - `row_args`: tuple of arrays with one entry per row (the regime's coefficients).
+    - `row_args`: tuple of arrays with one entry per row (the regime's coefficients); scalars
+      for a single row.
     - `method`: "gauss-legendre" (fixed `nodes` per row, the default) or "adaptive" (quadax's
-      Gauss–Kronrod `quadgk`, to relative `tolerance`, vmapped over the rows).
+      Gauss–Kronrod `quadgk`, to relative `tolerance`, vectorised over the rows).
     """
     if method == "gauss-legendre":
         expanded = tuple(a[..., None] for a in row_args)
@@ -61,4 +62,4 @@ def integrate_rows(integrand, row_args, log_lower, log_upper, *, method: str, no
                                  max_ninter=100)
         return value
 
-    return jnp.where(nonempty, jax.vmap(one_row)(log_lower, upper, *row_args), 0.0)
+    return jnp.where(nonempty, jnp.vectorize(one_row)(log_lower, upper, *row_args), 0.0)

@@ -35,3 +35,22 @@ def test_interacting_stiffness_converges_with_nodes():
         scene = make_scene(**TABLE1, interaction="paper", quadrature="gauss-legendre", quadrature_nodes=nodes)
         results.append(np.asarray(jc.solve(scene, jnp.array([2.2, 220.0, 2200.0, 1.0e4])).stiffness))
     np.testing.assert_allclose(results[0], results[1], rtol=1e-10)
+
+
+def test_the_pole_remainder_agrees_across_quadratures():
+    """Interaction "paper": the power series, Gauss–Legendre and adaptive quadax agree on K.
+
+    Each regime's correction is its own chain (`joint._paper_correction`), whatever the
+    quadrature; the quadratures share nothing with the power series but the split into rows.
+    The loads run from the elastic regime to 0.996 of the breakdown load (F* = 9.812e-4,
+    2.159e4 N here), where the remainder is largest.
+    """
+    loads = jnp.array([2.2, 220.0, 2200.0, 2.0e4, 2.15e4])
+    stiffness = {}
+    for quadrature in ("power-series", "gauss-legendre", "adaptive"):
+        scene = make_scene(**TABLE1, interaction="paper", quadrature=quadrature, quadrature_nodes=32)
+        solution = jc.solve(scene, loads)
+        assert np.all(np.asarray(solution.status) == 0)
+        stiffness[quadrature] = np.asarray(solution.stiffness)
+    for quadrature in ("gauss-legendre", "adaptive"):
+        np.testing.assert_allclose(stiffness[quadrature], stiffness["power-series"], rtol=1e-12, err_msg=quadrature)
