@@ -52,17 +52,14 @@ def _baseline(scene: Scene, **changes) -> BaselineParameters:
     return BaselineParameters(**{**values, **changes})
 
 
-def time_scene(scene: Scene, loads, output=None, repeats: int = 5) -> dict:
-    """Compile time and run time (s) of `jax.jit(solve)` for this scene and these loads.
-
-    `output` picks one field of the `Solution` (e.g. "stiffness"); None times the whole `Solution`.
-    """
-    run = jax.jit(solve if output is None else lambda s, F: getattr(solve(s, F), output))
+def time_scene(scene: Scene, loads) -> dict:
+    """Compile time and run time (s, best of 5) of `jax.jit(solve)` for this scene and these loads."""
+    run = jax.jit(solve)
     scene, loads = _arrays(scene), jnp.asarray(loads)
     t = time.perf_counter()
     jax.block_until_ready(run(scene, loads))
     first = time.perf_counter() - t
-    seconds = best_of(lambda: run(scene, loads), repeats)
+    seconds = best_of(lambda: run(scene, loads))
     return {"compile_s": max(first - seconds, 0.0), "run_s": seconds, "points_per_s": loads.size / seconds}
 
 

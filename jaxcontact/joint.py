@@ -206,14 +206,14 @@ def _paper_correction(density: PowerLaw, ratio: PowerLaw, lower, upper, quadratu
     series' 21 Horner steps). Row by row, a whole 200-load `Solution` takes 0.75–0.8x the time
     and 1e5 loads 0.35x, for a longer compile (forward 1.3x, gradient about 2x).
     """
-    if quadrature == "power-series":
-        poles = PoleIntegral.build(density.exponent / ratio.exponent + _GEOMETRIC_TERMS)  # per scene, all rows
+    series = quadrature == "power-series"
+    poles = PoleIntegral.build(density.exponent / ratio.exponent + _GEOMETRIC_TERMS) if series else None
     corrections = []
     for i in range(lower.shape[0]):
         d, r, lo, hi = density[i], ratio[i], lower[i], upper[i]
         powers = sum(exponential_integral(d.log_coeff + j * r.log_coeff, d.exponent + j * r.exponent, lo, hi)
                      for j in range(1, _GEOMETRIC_TERMS + 1))
-        if quadrature != "power-series":
+        if not series:
             corrections.append(powers + _remainder_by_quadrature(d, r, lo, hi, options))
             continue
         pole, log_coeff = poles[i], d.log_coeff - d.exponent * r.log_coeff / r.exponent
