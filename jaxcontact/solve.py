@@ -25,7 +25,7 @@ from .dimensionless import nondimensionalise
 from .joint import AbstractJoint, JointResponse, Xia2024Joint
 from .jzz2010 import JZZ2010Joint
 from .scene import Scene
-from .solution import Solution
+from .solution import Solution, masked_rescale
 from .solver import solve_increasing
 from .status import Status
 
@@ -86,11 +86,6 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
               & (area > 0) & (l_min * l_min < area))  # the last: a_min* < 1
     values = tuple(jnp.where(inside, x, stand_in) for x, stand_in in zip(fields, _STAND_IN.values()))
     return eqx.tree_at(_float_fields, scene, values), inside
-
-
-def _masked(mask, value, scale=1.0):
-    """`value · scale` where `mask`, NaN elsewhere; at masked points every derivative is 0, not NaN."""
-    return jnp.where(mask, jnp.where(mask, value, 0.0) * scale, jnp.nan)
 
 
 class PointResult(eqx.Module):
@@ -164,20 +159,18 @@ def _solve(scene: Scene, loads):
     if scene.regime_shares:
         load_total = jnp.where(solved, unrolled_sum(response.regime_load), 1.0)[:, None]
         positive = jnp.where(ok & (stiffness_total > 0), stiffness_total, 1.0)[:, None]  # K = 0: all plastic
-        load_share = _masked(solved[:, None], response.regime_load / load_total).reshape(shape + (4,))
-        stiffness_share = _masked(ok[:, None], response.regime_stiffness / positive).reshape(shape + (4,))
+        load_share = masked_rescale(solved[:, None], response.regime_load / load_total).reshape(shape + (4,))
+        stiffness_share = masked_rescale(ok[:, None], response.regime_stiffness / positive).reshape(shape + (4,))
     return Solution(
         load=loads,
-        a_l=_masked(solved, a_l_star, area).reshape(shape),
-        stiffness=_masked(ok, stiffness_total, E * jnp.sqrt(area)).reshape(shape),
-        real_area=_masked(solved, response.real_area, area).reshape(shape),
+        a_l=masked_rescale(solved, a_l_star, area).reshape(shape),
+        stiffness=masked_rescale(ok, stiffness_total, E * jnp.sqrt(area)).reshape(shape),
+        real_area=masked_rescale(solved, response.real_area, area).reshape(shape),
         status=status.reshape(shape),
         load_share=load_share,
         stiffness_share=stiffness_share,
-        load_star=load_star,
-        stiffness_star=_masked(ok, stiffness_total).reshape(shape),
-        real_area_star=_masked(solved, response.real_area).reshape(shape),
-        a_l_star=_masked(solved, a_l_star).reshape(shape),
+        modulus=E.reshape((1,) * len(shape)),
+        nominal_area=area.reshape((1,) * len(shape)),
     )
 
 

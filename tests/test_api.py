@@ -42,6 +42,15 @@ def test_vmap_over_batched_scenes():
     stacked = jc.stack_scenes([make_scene(**(TABLE1 | {"D": D})) for D in Ds])
     out = jax.vmap(jc.solve, in_axes=(0, None))(stacked, LOADS).stiffness
     np.testing.assert_allclose(out, jnp.stack(expected), rtol=1e-12)
+    # The dimensionless properties of a batch of scenes with different E and A_a: each row
+    # divided by its own scene's scales (they are stored to broadcast against the loads).
+    scales = [(1e11, 1e-4), (2e11, 4e-4), (3e11, 1e-3)]
+    scenes = [make_scene(**(TABLE1 | {"E": E, "area": A})) for E, A in scales]
+    batch = jax.vmap(jc.solve, in_axes=(0, None))(jc.stack_scenes(scenes), LOADS)
+    for row, (E, A) in enumerate(scales):
+        np.testing.assert_allclose(batch.load_star[row], LOADS / (E * A), rtol=1e-15)
+        np.testing.assert_allclose(batch.stiffness_star[row], jc.solve(scenes[row], LOADS).stiffness / (E * np.sqrt(A)),
+                                   rtol=1e-12)
 
 
 def test_jvp_matches_grad(table1_scene):
@@ -58,11 +67,14 @@ def test_gradient_with_respect_to_the_whole_scene(table1_scene):
 
 
 def test_dimensionless_outputs(table1_scene):
-    sol = jc.solve(table1_scene, LOADS)
+    grid = jnp.stack([LOADS, 10.0 * LOADS])  # two load axes: the scales must broadcast over both
+    sol = jc.solve(table1_scene, grid)
     E, A = TABLE1["E"], TABLE1["area"]
-    np.testing.assert_allclose(sol.load_star, LOADS / (E * A), rtol=1e-15)
+    np.testing.assert_allclose(sol.load_star, grid / (E * A), rtol=1e-15)
     np.testing.assert_allclose(sol.stiffness_star, sol.stiffness / (E * np.sqrt(A)), rtol=1e-14)
     np.testing.assert_allclose(sol.real_area_star, sol.real_area / A, rtol=1e-14)
+    np.testing.assert_allclose(sol.a_l_star, sol.a_l / A, rtol=1e-14)
+    assert sol.stiffness_star.shape == grid.shape
     assert sol.status.dtype == jnp.int32
 
 
