@@ -94,7 +94,7 @@ def curve(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
         best["scipy_s"] = min(best["scipy_s"], time.perf_counter() - t)
         for name, run in runs.items():
             best[name] = min(best[name], best_of(lambda: run(arrays, loads), repeats))
-    return {"points": 200, "rounds": rounds, **best, "speedup": best["scipy_s"] / best["jaxcontact_s"],
+    return {"points": 200, "rounds": rounds, "repeats": repeats, **best, "speedup": best["scipy_s"] / best["jaxcontact_s"],
             "speedup_baseline_outputs": best["scipy_s"] / best["jaxcontact_baseline_outputs_s"],
             "speedup_stiffness_only": best["scipy_s"] / best["jaxcontact_stiffness_only_s"]}
 
@@ -227,7 +227,7 @@ def format_results(r: dict) -> str:
 
     lines = [
         f"device: {r['device']} ({r['devices']} device(s)); float64; after compilation, best of 5 "
-        f"(200-load curve: {c['rounds']} rounds of scipy once and each jaxcontact curve 30 times, interleaved; "
+        f"(200-load curve: {c['rounds']} rounds of scipy once and each jaxcontact curve {c['repeats']} times, interleaved; "
         "best of each)",
         "",
         f"200-load curve:       scipy {c['scipy_s']:.3f} s; jaxcontact whole Solution {1e3 * c['jaxcontact_s']:.3f} ms: "

@@ -53,7 +53,7 @@ class Solution(eqx.Module):
     @property
     def solved(self):
         """Boolean mask of the points whose `a_l` was found (valid, or past interaction breakdown)."""
-        return self.ok | (self.status == Status.INTERACTION_BREAKDOWN)
+        return is_solved(self.status)
 
     @property
     def load_star(self):
@@ -70,6 +70,11 @@ class Solution(eqx.Module):
     @property
     def a_l_star(self):
         return masked_rescale(self.solved, self.a_l, 1.0 / self.nominal_area)
+
+
+def is_solved(status):
+    """Whether `a_l` was found: the point is valid, or past interaction breakdown."""
+    return (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
 
 
 def masked_rescale(mask, value, scale=1.0):

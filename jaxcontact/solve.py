@@ -25,7 +25,7 @@ from .dimensionless import nondimensionalise
 from .joint import AbstractJoint, JointResponse, Xia2024Joint
 from .jzz2010 import JZZ2010Joint
 from .scene import Scene
-from .solution import Solution, masked_rescale
+from .solution import Solution, is_solved, masked_rescale
 from .solver import solve_increasing
 from .status import Status
 
@@ -151,7 +151,7 @@ def _solve(scene: Scene, loads):
     points = jax.vmap(point_solver(scene))(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
-    solved = (status == Status.OK) | (status == Status.INTERACTION_BREAKDOWN)
+    solved = is_solved(status)
     ok = status == Status.OK
     stiffness_total = unrolled_sum(response.regime_stiffness)
     a_l_star = jnp.exp(log_a_l)
