@@ -95,7 +95,7 @@ def log_residuals(stat, scene, params, loads, log_stiffness):
 
 def _residuals_and_status(stat, scene, params, loads, log_stiffness):
     sol = jc.solve(with_stat(scene, params, stat), loads)
-    ok = (sol.status == 0) & (sol.stiffness > 0)
+    ok = sol.ok & (sol.stiffness > 0)
     K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
     return jnp.where(ok, jnp.log(K) - log_stiffness, FLAGGED_RESIDUAL), ok, sol.status
 

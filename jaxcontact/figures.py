@@ -34,7 +34,7 @@ def _scene(D, G_star, material, l_min=1e-9, **kw):
 def _curve(ax, scene, label, y="stiffness_star", style="-"):
     E = float(scene.material.E)
     sol = solve_sweep(scene, F_STAR * E * AREA)
-    ok = sol.status == 0
+    ok = sol.ok
     flagged = int((~ok).sum())
     ax.loglog(sol.load_star[ok], getattr(sol, y)[ok], style, label=label + (f" ({flagged} flagged)" if flagged else ""))
     return sol
