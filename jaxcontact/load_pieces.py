@@ -37,6 +37,10 @@ class AbstractLoadPieces(eqx.Module):
     def log_load(self, log_a_l, piece) -> Float[Array, ""]:
         """`ln F_t*(a_l)`, valid for `knots[piece] ≤ ln a_l ≤ knots[piece + 1]`."""
 
+    def log_load_slope(self, log_a_l, piece) -> Float[Array, ""]:
+        """`d ln F_t* / d ln a_l*` on the piece (forward-mode differentiation of `log_load`)."""
+        return jax.jvp(lambda x: self.log_load(x, piece), (log_a_l,), (jnp.ones_like(log_a_l),))[1]
+
     def locate(self, log_load) -> tuple[Int[Array, ""], Float[Array, ""], Float[Array, ""], Float[Array, ""]]:
         """The piece that holds the load `ln F*`, its ends, and a first guess of `ln a_l*` on it.
 
@@ -94,7 +98,18 @@ class PowerLawLoadPieces(AbstractLoadPieces):
         knot_log_loads = density_exponent * knots + jnp.log(totals)
         return cls(knots, knot_log_loads, density_exponent, laws, totals[:-1])
 
+    def _piece_law(self, piece):
+        """The piece's regime law in `t = ln a` (coefficient and rate), its start, and `C_j`."""
+        return (pick(self.laws.log_coeff, piece), pick(self.laws.exponent, piece) + 1.0, pick(self.knots[:-1], piece),
+                pick(self.completed, piece))
+
     def log_load(self, log_a_l, piece):
-        partial = exponential_integral(pick(self.laws.log_coeff, piece), pick(self.laws.exponent, piece) + 1.0,
-                                       pick(self.knots[:-1], piece), log_a_l)
-        return self.density_exponent * log_a_l + jnp.log(pick(self.completed, piece) + partial)
+        log_coeff, rate, start, completed = self._piece_law(piece)
+        return self.density_exponent * log_a_l + jnp.log(completed + exponential_integral(log_coeff, rate, start,
+                                                                                          log_a_l))
+
+    def log_load_slope(self, log_a_l, piece):
+        """`D/2 + f(a_l) n(a_l) a_l / (C_j + ∫ f n da)`: the integral's derivative is its integrand."""
+        log_coeff, rate, start, completed = self._piece_law(piece)
+        total = completed + exponential_integral(log_coeff, rate, start, log_a_l)
+        return self.density_exponent + jnp.exp(log_coeff + rate * log_a_l) / total

@@ -44,6 +44,11 @@ def _piece_residual(log_a_l, args):
     return pieces.log_load(log_a_l, piece) - log_load, None
 
 
+def _piece_residual_slope(log_a_l, args):
+    pieces, piece, _ = args
+    return pieces.log_load_slope(log_a_l, piece)
+
+
 def _check_loads(loads) -> None:
     values = concrete(loads)
     if values is None:
@@ -128,7 +133,7 @@ def point_solver(scene: Scene):
         log_load = jnp.where(usable, log_load, log_load_middle)
         piece, lower, upper, guess = pieces.locate(log_load)
         log_a_l, converged = solve_increasing(_piece_residual, guess, (pieces, piece, log_load), lower, upper,
-                                              tolerance=tolerance, max_steps=scene.max_steps)
+                                              tolerance=tolerance, max_steps=scene.max_steps, slope=_piece_residual_slope)
         response = joint.response(log_a_l, log_load)
         status = jnp.select(
             [~parameters_valid, ~valid, ~in_range, ~converged, response.breakdown],

@@ -14,10 +14,11 @@ from jaxcontact.solve import make_joint, prepare
 
 @eqx.filter_jit
 def piece_log_loads(pieces, log_a_l, piece):
-    """ln F_t* on one piece, and its slope in ln a_l*."""
+    """ln F_t* on one piece, its slope in ln a_l* by autodiff, and the pieces' own (closed-form) slope."""
     def log_load(x):
         return pieces.log_load(x, piece)
-    return jax.vmap(log_load)(log_a_l), jax.vmap(jax.grad(log_load))(log_a_l)
+    return (jax.vmap(log_load)(log_a_l), jax.vmap(jax.grad(log_load))(log_a_l),
+            jax.vmap(lambda x: pieces.log_load_slope(x, piece))(log_a_l))
 
 
 def joint_of(**kw):
@@ -39,10 +40,11 @@ def test_closed_form_pieces_equal_the_full_regime_sums(D, distribution):
         if hi <= lo:
             continue
         x = jnp.linspace(lo, hi, 9)[1:]
-        got, slope = piece_log_loads(pieces, x, jnp.int32(piece))
+        got, slope, closed_form_slope = piece_log_loads(pieces, x, jnp.int32(piece))
         np.testing.assert_allclose(got, jnp.log(total_loads(joint, x)), rtol=1e-13, atol=1e-13)
-        # The slope too (inside the piece: at a kink the full sum has no single slope).
+        # The slopes too (inside the piece: at a kink the full sum has no single slope).
         np.testing.assert_allclose(slope[:-1], log_total_load_slopes(joint, x[:-1]), rtol=1e-11)
+        np.testing.assert_allclose(closed_form_slope[:-1], log_total_load_slopes(joint, x[:-1]), rtol=1e-11)
 
 
 def test_locate_brackets_the_solution():
