@@ -204,7 +204,8 @@ def compilation_cache() -> dict:
 def run_all(scene: Scene, progress=None) -> dict:
     steps = [("curve", curve), ("gradient", gradient), ("fit", fit), ("throughput", throughput),
              ("effects", effects_table), ("compilation_cache", lambda s: compilation_cache())]
-    results = {"device": str(jax.devices()[0]), "devices": len(jax.devices())}
+    results = {"device": str(jax.devices()[0]), "devices": len(jax.devices()),
+               "async_dispatch": bool(jax.config.read("jax_cpu_enable_async_dispatch"))}
     # Compile times must be compilations, not reads of the CLI's persistent cache (the CLI's
     # cache is timed separately, in its own processes, by `compilation_cache`).
     enabled = jax.config.jax_enable_compilation_cache
@@ -226,7 +227,8 @@ def format_results(r: dict) -> str:
         return "target met" if ok else "TARGET NOT MET"
 
     lines = [
-        f"device: {r['device']} ({r['devices']} device(s)); float64; after compilation, best of 5 "
+        f"device: {r['device']} ({r['devices']} device(s)); float64; "
+        f"{'asynchronous' if r['async_dispatch'] else 'synchronous'} dispatch; after compilation, best of 5 "
         f"(200-load curve: {c['rounds']} rounds of scipy once and each jaxcontact curve {c['repeats']} times, interleaved; "
         "best of each)",
         "",
