@@ -13,8 +13,11 @@ more steps; its safeguarded steps are what makes the solve robust. The unrolled 
 bracket on purpose: a step whose only output is the next `y` fuses with its neighbours into one
 loop over the batch, while a step that also updates a bracket from the residual's sign has
 three outputs that share every `exp` and `log`, and XLA (which does not duplicate such work)
-cut each step into seven loops (a 200-load solve launched 60 per-load loops; now 35). The root is differentiated by the implicit function
-theorem (a `custom_jvp`), never by unrolling. (optimistix's own `ImplicitAdjoint` raises on a
+cut each step into seven loops (a 200-load solve launched 60 per-load loops; now 35). Steps and
+the implicit derivative use the caller's closed-form slope where it has one (`slope`): the loop's
+body is then smaller and compiles faster than one built on forward-mode derivatives of the
+residual. The root is differentiated by the implicit function theorem (a `custom_jvp`), never by
+unrolling. (optimistix's own `ImplicitAdjoint` raises on a
 non-finite Jacobian, which would let one bad point of a batch abort the whole gradient.)
 """
 
@@ -40,9 +43,10 @@ class _BracketState(eqx.Module):
     pending: Scalar  # `step` is the next step, not yet taken (true only for the state from `init`)
 
 
-def _safeguarded_newton(fn, y, args, lower, upper):
+def _safeguarded_newton(fn, slope_fn, y, args, lower, upper):
     """One `rtsafe` step from `y` in `[lower, upper]`: `(new_y, state, aux)`; the state keeps the residual."""
-    (residual, aux), (slope, _) = jax.jvp(lambda x: fn(x, args), (y,), (jnp.ones_like(y),))
+    residual, aux = fn(y, args)
+    slope = slope_fn(y, args)
     below = residual < 0
     lower = jnp.where(below, y, lower)
     upper = jnp.where(below, upper, y)
@@ -65,6 +69,7 @@ class BracketedNewton(optx.AbstractRootFinder):
 
     rtol: float
     atol: float
+    slope: Callable  # `(y, args) ↦ ∂fn/∂y`
     norm: ClassVar[Callable[[PyTree], Scalar]] = jnp.abs
 
     def init(self, fn, y, args, options: dict[str, Any], f_struct, aux_struct, tags):
@@ -75,12 +80,12 @@ class BracketedNewton(optx.AbstractRootFinder):
         # terminates before the first iteration.
         lower = jnp.asarray(options["lower"], f_struct.dtype)
         upper = jnp.asarray(options["upper"], f_struct.dtype)
-        _, state, _ = _safeguarded_newton(fn, y, args, lower, upper)
+        _, state, _ = _safeguarded_newton(fn, self.slope, y, args, lower, upper)
         return eqx.tree_at(lambda st: st.pending, state, jnp.array(True))
 
     def step(self, fn, y, args, options, state: _BracketState, tags):
         del options, tags
-        return _safeguarded_newton(fn, y, args, state.lower, state.upper)
+        return _safeguarded_newton(fn, self.slope, y, args, state.lower, state.upper)
 
     def terminate(self, fn, y, args, options, state: _BracketState, tags):
         del fn, args, options, tags
@@ -112,9 +117,9 @@ def solve_increasing(fn, y0, args, lower, upper, *, tolerance: float, max_steps:
 
     `fn` returns `(value, aux)`. The first `unrolled_steps` steps (at most `max_steps`) run as
     straight-line code; `optimistix.root_find` takes any steps left after that. `slope(y, args)`,
-    if given, is `∂fn/∂y` in closed form for the unrolled steps (forward-mode differentiation of
-    `fn` otherwise). A closed form can keep each step a single XLA loop where the derivative
-    rules of `fn` would not (see the module's docstring).
+    if given, is `∂fn/∂y` in closed form, for every step and for the implicit derivative
+    (forward-mode differentiation of `fn` otherwise). A closed form can keep each step a single
+    XLA loop where the derivative rules of `fn` would not (see the module's docstring).
 
     Differentiable in `args` by the implicit function theorem, `dy = -(∂fn/∂args · dargs) / (∂fn/∂y)`
     (a `custom_jvp`, so reverse mode works by transposition). Never raises: a solve that runs
@@ -138,7 +143,7 @@ def _root(fn, slope, tolerance, max_steps, unrolled_steps, y0, lower, upper, arg
     if unrolled_steps:
         # The loop's first check is the last unrolled step's size (the residual is not known here).
         options = dict(state=_BracketState(lower, upper, step, jnp.full_like(y, jnp.nan), jnp.array(False)))
-    solver = BracketedNewton(rtol=tolerance, atol=tolerance)
+    solver = BracketedNewton(rtol=tolerance, atol=tolerance, slope=slope)
     sol = optx.root_find(fn, solver, y, args, options=options, has_aux=True, max_steps=max_steps - unrolled_steps,
                          throw=False)
     return sol.value, sol.result == optx.RESULTS.successful
@@ -149,8 +154,8 @@ def _root_jvp(fn, slope, tolerance, max_steps, unrolled_steps, primals, tangents
     y0, lower, upper, args = primals
     args_dot = tangents[3]
     y, converged = _root(fn, slope, tolerance, max_steps, unrolled_steps, y0, lower, upper, args)
-    _, slope = jax.jvp(lambda x: fn(x, args)[0], (y,), (jnp.ones_like(y),))
+    slope_at_root = slope(y, args)
     _, f_dot = jax.jvp(lambda a: fn(y, a)[0], (args,), (args_dot,))
-    good = jnp.isfinite(slope) & (slope > 0)
-    y_dot = jnp.where(good, -f_dot / jnp.where(good, slope, 1.0), 0.0)
+    good = jnp.isfinite(slope_at_root) & (slope_at_root > 0)
+    y_dot = jnp.where(good, -f_dot / jnp.where(good, slope_at_root, 1.0), 0.0)
     return (y, converged), (y_dot, np.zeros(jnp.shape(converged), dtype=jax.dtypes.float0))
