@@ -19,7 +19,11 @@ class CommandError(Exception):
 
 
 def _setup_jax():
+    import gc
+
     import jax
+
+    from . import solve  # noqa: F401  (the package and its dependencies, imported before the freeze)
 
     jax.config.update("jax_enable_x64", True)
     # Run each compiled call on the calling thread. Handing it to a worker thread (JAX's default
@@ -38,6 +42,11 @@ def _setup_jax():
             jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
         except OSError:
             pass  # a read-only home: run without the cache
+    # The modules just imported live as long as the process: leave them out of every garbage
+    # collection. Tracing a model allocates millions of short-lived objects, and each full
+    # collection it triggers would otherwise walk the whole of jax, numpy and scipy again
+    # (tracing the "paper" solve: 0.33-0.50 s frozen against 0.62-0.63 s).
+    gc.freeze()
 
 
 def _print(payload, fmt: str, text: str) -> None:
