@@ -2,9 +2,10 @@
 
 The solve runs in `ln a_l*` on `[ln a_min*, 0]` (the largest spot lies between the smallest
 fractal asperity and the nominal area). `F_t` at the regime boundaries (once per scene) tells
-which smooth piece of `F_t` holds each load (`load_pieces`); a safeguarded Newton method then
-runs on that piece alone, from the piece's log-log interpolant, and the root is differentiated
-by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`.
+which smooth piece of `F_t` holds each load (`load_pieces`); Newton's method then runs on that
+piece alone, from the piece's log-log interpolant and with its closed-form slope (`solver`:
+plain steps first, optimistix's safeguarded loop for any point that needs more), and the root is
+differentiated by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`.
 
 Failed points never raise and never poison a batch: each is solved at a harmless stand-in
 load, its outputs are replaced by NaN and it is given a non-zero `status`, so the values and
