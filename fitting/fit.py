@@ -287,7 +287,8 @@ def _rival_optima(params, u_all, losses, best, n_points, result) -> list[str]:
         delta = stats_all[k] - stats_all[best]
         if k == best or not np.isfinite(rss[k]) or float(delta @ precision @ delta) <= 25.0:
             continue
-        chi2 = (rss[k] - rss[best]) / s2
+        # An exact fit (s2 = 0) makes any worse minimum infinitely worse, and another exact one equal.
+        chi2 = (rss[k] - rss[best]) / s2 if s2 > 0 else (0.0 if rss[k] <= rss[best] else math.inf)
         if chi2 < 9.0:
             rivals.append((chi2, k))
     if not rivals:
@@ -332,9 +333,12 @@ def _statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         if np.all(scale > 0):
             scaled = JTJ / np.outer(scale, scale)
             condition = float(np.linalg.cond(scaled))
-            covariance = s2 * np.linalg.pinv(JTJ)
-            se = np.sqrt(np.diag(covariance))
-            correlation = covariance / np.outer(se, se)
+            inverse = np.linalg.pinv(JTJ)
+            covariance = s2 * inverse
+            # From the inverse itself: the correlation does not depend on the residuals' scale,
+            # and an exact fit (s2 = 0, every standard error 0) still has one.
+            spread = np.sqrt(np.diag(inverse))
+            correlation = inverse / np.outer(spread, spread)
         else:
             warnings.append("the data do not depend on "
                             + ", ".join(names[i] for i in np.flatnonzero(scale == 0)) + ": not identifiable")

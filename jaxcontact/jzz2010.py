@@ -20,7 +20,6 @@ from .joint import AbstractJoint, JointResponse
 from .powerlaw import PowerLaw
 
 
-
 def hertz_stiffness(like) -> PowerLaw:
     """Hertz contact stiffness of one spot, `k = 2 E sqrt(a/π)`, in units of `E sqrt(A_a)`."""
     return PowerLaw(jnp.full_like(like, math.log(2.0) - 0.5 * math.log(math.pi)), jnp.full_like(like, 0.5))

@@ -51,7 +51,7 @@ def test_locate_brackets_the_solution():
     joint = joint_of()
     pieces = joint.load_pieces()
     log_loads = jnp.linspace(float(pieces.knot_log_loads[1]) - 8.0, float(pieces.knot_log_loads[-1]) - 1e-6, 400)
-    piece, lower, upper, guess = eqx.filter_jit(jax.vmap(pieces.locate))(log_loads)
+    piece, lower, upper, guess = eqx.filter_jit(lambda p, x: jax.vmap(p.locate)(x))(pieces, log_loads)
     scene = make_scene(**TABLE1, interaction="none")
     root = np.log(np.asarray(jc.solve(scene, np.exp(np.asarray(log_loads)) * TABLE1["E"] * TABLE1["area"]).a_l_star))
     assert np.all((lower <= root + 1e-12) & (root <= upper + 1e-12))
