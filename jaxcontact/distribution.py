@@ -33,8 +33,8 @@ def wang_komvopoulos_psi(D):
     """Domain-extension factor ψ > 1 of Wang & Komvopoulos (MODEL.md §4).
 
     Solves `(ψ^((2-D)/2) - (1 + ψ^(-D/2))^(-(2-D)/D)) / ((2-D)/D) = 1`, whose left side
-    increases in ψ, by a fixed number of bracketed Newton steps on `[1, 4]` (straight-line
-    code: no loop to compile), differentiated implicitly in D. ψ falls from `φ² = 2.618`
+    increases in ψ, by a fixed number of Newton steps clipped to `[1, 4]` (straight-line code:
+    no loop to compile), differentiated implicitly in D. ψ falls from `φ² = 2.618`
     (D → 1) through 2.0007 (D = 1.5) to `e - 1 = 1.718` (D → 2).
 
     **Arguments:** `D`, the fractal dimension, `1 < D < 2` (any shape: `vmap` for arrays).

@@ -17,8 +17,8 @@ cut each step into seven loops (a 200-load solve launched 60 per-load loops; now
 the implicit derivative use the caller's closed-form slope where it has one (`slope`): the loop's
 body is then smaller and compiles faster than one built on forward-mode derivatives of the
 residual. The root is differentiated by the implicit function theorem (a `custom_jvp`), never by
-unrolling. (optimistix's own `ImplicitAdjoint` raises on a
-non-finite Jacobian, which would let one bad point of a batch abort the whole gradient.)
+unrolling. (optimistix's own `ImplicitAdjoint` raises on a non-finite Jacobian, which would let
+one bad point of a batch abort the whole gradient.)
 """
 
 from __future__ import annotations
