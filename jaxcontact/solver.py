@@ -136,14 +136,14 @@ def _root(fn, slope, tolerance, max_steps, unrolled_steps, y0, lower, upper, arg
     y, previous = y0, y0
     for _ in range(unrolled_steps):
         y, previous = _clipped_newton(fn, slope, y, args, lower, upper), y
-    step = y - previous
-    if max_steps == unrolled_steps:
-        return y, jnp.abs(step) < tolerance * (1.0 + jnp.abs(y))
+    solver = BracketedNewton(rtol=tolerance, atol=tolerance, slope=slope)
     options = dict(lower=lower, upper=upper)
     if unrolled_steps:
         # The loop's first check is the last unrolled step's size (the residual is not known here).
-        options = dict(state=_BracketState(lower, upper, step, jnp.full_like(y, jnp.nan), jnp.array(False)))
-    solver = BracketedNewton(rtol=tolerance, atol=tolerance, slope=slope)
+        state = _BracketState(lower, upper, y - previous, jnp.full_like(y, jnp.nan), jnp.array(False))
+        if max_steps == unrolled_steps:
+            return y, solver.terminate(fn, y, args, None, state, None)[0]
+        options = dict(state=state)
     sol = optx.root_find(fn, solver, y, args, options=options, has_aux=True, max_steps=max_steps - unrolled_steps,
                          throw=False)
     return sol.value, sol.result == optx.RESULTS.successful
