@@ -5,12 +5,26 @@ estimates, standard errors, 95 % intervals, correlations and identifiability war
 """
 
 from .data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
-from .fit import FLAGGED_RESIDUAL, METHODS, FitResult, fit, log_residuals, starting_points
+from .fit import METHODS, FitResult, fit, starting_points
 from .parameters import PARAMETERS, FitParameter, resolve
+from .residuals import FLAGGED_RESIDUAL, log_residuals
 from .resonance import fit_resonance
 
 __all__ = [
-    "fit", "fit_resonance", "FitResult", "METHODS", "FLAGGED_RESIDUAL", "log_residuals", "starting_points",
-    "PARAMETERS", "FitParameter", "resolve",
-    "Curve", "DataError", "load_curve", "parse_curve", "write_curve", "COLUMN_SETS",
+    "fit",
+    "fit_resonance",
+    "FitResult",
+    "METHODS",
+    "FLAGGED_RESIDUAL",
+    "log_residuals",
+    "starting_points",
+    "PARAMETERS",
+    "FitParameter",
+    "resolve",
+    "Curve",
+    "DataError",
+    "load_curve",
+    "parse_curve",
+    "write_curve",
+    "COLUMN_SETS",
 ]

@@ -42,8 +42,9 @@ def parse_curve(text: str, scene: jc.Scene, source: str = "<text>") -> Curve:
     reader.fieldnames = header
     columns = next((c for c in COLUMN_SETS if all(k in header for k in c)), None)
     if columns is None:
-        raise DataError(f"{source}: header {','.join(header)!r} lacks the columns "
-                        f"'load_N,stiffness_N_per_m' (or 'F_star,K_star')")
+        raise DataError(
+            f"{source}: header {','.join(header)!r} lacks the columns 'load_N,stiffness_N_per_m' (or 'F_star,K_star')"
+        )
     x, y = [], []
     for row_number, row in enumerate(reader, start=2):
         pair = []
@@ -62,8 +63,8 @@ def parse_curve(text: str, scene: jc.Scene, source: str = "<text>") -> Curve:
         raise DataError(f"{source}: {len(x)} data rows; a fit needs at least 3")
     loads, stiffness = np.asarray(x), np.asarray(y)
     if columns[0] == "F_star":
-        E, area = float(scene.material.E), float(scene.area)
-        loads, stiffness = loads * E * area, stiffness * E * math.sqrt(area)
+        scales = jc.Scales.of(scene)
+        loads, stiffness = loads * float(scales.load), stiffness * float(scales.stiffness)
     return Curve(loads, stiffness, source)
 
 

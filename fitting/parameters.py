@@ -21,12 +21,19 @@ import jaxcontact as jc
 
 @dataclasses.dataclass(frozen=True)
 class FitParameter:
+    """A parameter as the fit sees it: the scene's `ParameterSpec`, searched over `low`..`high`."""
+
     name: str
     get: Callable[[jc.Scene], object]
     low: float  # bounds of the physical value
     high: float
     log: bool  # statistical coordinate is ln(value)
     unit: str
+
+    @classmethod
+    def of(cls, spec: jc.ParameterSpec) -> FitParameter:
+        """The fit's view of a scene parameter: its default search range, log coordinate for scales."""
+        return cls(spec.name, spec.get, *spec.search, spec.log, spec.unit)
 
     @property
     def stat_bounds(self) -> tuple[float, float]:
@@ -50,18 +57,7 @@ class FitParameter:
         return jnp.log(p) - jnp.log1p(-p)
 
 
-PARAMETERS = {
-    p.name: p
-    for p in (
-        FitParameter("D", lambda s: s.surface.D, 1.0, 2.0, False, ""),
-        FitParameter("G", lambda s: s.surface.G, 1e-15, 1e-6, True, "m"),
-        FitParameter("l_min", lambda s: s.surface.l_min, 1e-12, 1e-6, True, "m"),
-        FitParameter("E", lambda s: s.material.E, 1e8, 1e13, True, "Pa"),
-        FitParameter("nu", lambda s: s.material.nu, 0.0, 0.5, False, ""),
-        FitParameter("H", lambda s: s.material.H, 1e6, 1e12, True, "Pa"),
-        FitParameter("area", lambda s: s.area, 1e-10, 1.0, True, "m²"),
-    )
-}
+PARAMETERS = {name: FitParameter.of(spec) for name, spec in jc.PARAMETERS.items()}
 
 
 def resolve(names) -> tuple[FitParameter, ...]:
@@ -73,8 +69,7 @@ def resolve(names) -> tuple[FitParameter, ...]:
         raise ValueError("params must name at least one parameter")
     unknown = [n for n in names if n not in PARAMETERS]
     if unknown:
-        raise ValueError(f"params: {', '.join(map(repr, unknown))} cannot be fitted "
-                         f"(allowed: {', '.join(PARAMETERS)})")
+        raise ValueError(f"params: {', '.join(map(repr, unknown))} cannot be fitted (allowed: {', '.join(PARAMETERS)})")
     if len(set(names)) != len(names):
         raise ValueError(f"params = {names} names a parameter twice")
     return tuple(PARAMETERS[n] for n in names)
@@ -85,7 +80,3 @@ def with_stat(scene: jc.Scene, params, stat) -> jc.Scene:
     for i, p in enumerate(params):
         scene = eqx.tree_at(p.get, scene, p.from_stat(stat[i]))
     return scene
-
-
-def stat_of(scene: jc.Scene, params) -> jnp.ndarray:
-    return jnp.stack([p.to_stat(jnp.asarray(p.get(scene), dtype=float)) for p in params])

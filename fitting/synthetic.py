@@ -16,7 +16,7 @@ def synthetic_curve(scene: jc.Scene, F_star, noise: float = 0.05, seed: int = 0)
 
     Raises `ValueError` if the model flags any of the loads (a generated curve must be valid).
     """
-    loads = np.asarray(F_star, dtype=float) * float(scene.material.E) * float(scene.area)
+    loads = np.asarray(F_star, dtype=float) * float(jc.Scales.of(scene).load)
     sol = jc.solve(scene, loads)
     if np.any(np.asarray(sol.status) != 0):
         bad = [f"{F:.3g} N ({jc.status_message(s)})" for F, s in zip(loads, np.asarray(sol.status)) if s]
@@ -39,21 +39,25 @@ def table1_generated(scene: jc.Scene):
     return synthetic_curve(scene, TABLE1_F_STAR, noise=0.05, seed=TABLE1_SEED)
 
 
-TABLE1_COMMENTS = (
-    "GENERATED data, not measured: jaxcontact's xia2024 model (interaction 'paper', distribution 'mb')",
-    "on the Table 1 grinding surface (D = 1.4058, G = 2.2826e-10 m, E = 220 GPa, nu = 0.25, H = 100 GPa,",
-    "A_a = 1e-4 m^2, l_min = 1e-9 m), 40 loads log-spaced over F* = 1e-10 ... 1e-4, stiffness multiplied",
-    "by exp(0.05 N(0,1)) (5 % log-normal noise), numpy default_rng seed 2024.",
-    "Regenerate with: python -c 'import fitting.synthetic as s; s.write_table1()'",
-)
+def table1_comments() -> tuple[str, ...]:
+    """The header of `data/table1_grinding_generated.csv`: what it is and how it was made."""
+    v = jc.core.defaults.table1_values()
+    return (
+        "GENERATED data, not measured: jaxcontact's xia2024 model (interaction 'paper', distribution 'mb')",
+        f"on the Table 1 grinding surface (D = {v['D']:g}, G = {v['G']:g} m, E = {v['E'] / 1e9:g} GPa, "
+        f"nu = {v['nu']:g}, H = {v['H'] / 1e9:g} GPa,",
+        f"A_a = {v['area']:g} m^2, l_min = {v['l_min']:g} m), 40 loads log-spaced over F* = 1e-10 ... 1e-4, "
+        "stiffness multiplied",
+        f"by exp(0.05 N(0,1)) (5 % log-normal noise), numpy default_rng seed {TABLE1_SEED}.",
+        "Regenerate with: python -c 'import fitting.synthetic as s; s.write_table1()'",
+    )
 
 
 def write_table1(path="data/table1_grinding_generated.csv"):
     import jax
 
     from .data import write_curve
-    from jaxcontact.scenefile import load_scene
 
     jax.config.update("jax_enable_x64", True)
-    scene = load_scene().scene
-    write_curve(path, *table1_generated(scene), comments=TABLE1_COMMENTS)
+    scene = jc.table1_scene()
+    write_curve(path, *table1_generated(scene), comments=table1_comments())

@@ -2,27 +2,78 @@
 
 The fractal model of Xia, Qu & Liu (Aerospace 11, 472, 2024) as specified in MODEL.md:
 Kogut–Etsion asperity regimes over a Majumdar–Bhushan size distribution, with interaction
-between asperities, solved under load control and differentiable end to end.
+between asperities, solved under load control and differentiable end to end; and the models to
+compare it with, chosen by passing them (`Scene(..., model=JZZ2010())`).
 
 The package never enables float64 itself: call `jax.config.update("jax_enable_x64", True)`
 for double precision (the command line does).
 """
 
-from .approach import Approach, approach
-from .asperity import REGIMES
-from .distribution import wang_komvopoulos_psi
-from .joint import AbstractJoint, JointResponse, Xia2024Joint
-from .jzz2010 import JZZ2010Joint
-from .parameters import Material, Surface
-from .scene import INTERACTIONS, MODELS, Scene, stack_scenes
-from .solution import Solution
-from .solve import make_joint, solve
-from .status import Status, status_message
+from .applications.dynamics import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
+from .applications.loadapproach import Approach, approach
+from .core.defaults import table1_scene
+from .core.domain import PARAMETERS, ParameterSpec
+from .core.loadcontrol import point_solver, solve
+from .core.parameters import Material, Surface
+from .core.scales import DimensionlessScene, Scales, nondimensionalise
+from .core.scene import Scene, stack_scenes
+from .core.solution import Solution
+from .core.status import Status, status_message
+from .models.base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
+from .models.jzz2010 import JZZ2010
+from .models.xia2024 import Xia2024
+from .numerics.quadrature import AbstractQuadrature, Adaptive, GaussLegendre, PowerSeries
+from .physics.distribution import AbstractDistribution, MajumdarBhushan, WangKomvopoulos, wang_komvopoulos_psi
+from .physics.interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction
+from .registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, build_model, register_model
 
 __all__ = [
-    "REGIMES", "INTERACTIONS", "MODELS",
-    "Surface", "Material", "Scene", "Solution", "Status", "status_message",
-    "solve", "approach", "Approach", "make_joint", "stack_scenes", "wang_komvopoulos_psi",
-    "AbstractJoint", "JointResponse", "Xia2024Joint", "JZZ2010Joint",
+    "Surface",
+    "Material",
+    "Scene",
+    "Solution",
+    "Status",
+    "status_message",
+    "Scales",
+    "PARAMETERS",
+    "ParameterSpec",
+    "table1_scene",
+    "stack_scenes",
+    "solve",
+    "point_solver",
+    "approach",
+    "Approach",
+    "Drive",
+    "simulate",
+    "steady_amplitude",
+    "frequency_response",
+    "resonance_frequency",
+    "AbstractContactModel",
+    "AbstractLargestSpotModel",
+    "AbstractJoint",
+    "JointResponse",
+    "PointResult",
+    "DimensionlessScene",
+    "nondimensionalise",
+    "Xia2024",
+    "JZZ2010",
+    "AbstractInteraction",
+    "NoInteraction",
+    "PaperInteraction",
+    "SeriesInteraction",
+    "AbstractDistribution",
+    "MajumdarBhushan",
+    "WangKomvopoulos",
+    "wang_komvopoulos_psi",
+    "AbstractQuadrature",
+    "PowerSeries",
+    "GaussLegendre",
+    "Adaptive",
+    "MODELS",
+    "INTERACTIONS",
+    "DISTRIBUTIONS",
+    "QUADRATURES",
+    "build_model",
+    "register_model",
 ]
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -3,15 +3,19 @@
 import csv
 
 import numpy as np
-from conftest import CHECKPOINTS, TABLE1, make_scene
+from conftest import CHECKPOINTS, TABLE1, make_scene, needs_shared
 
-from jaxcontact import reference
-from jaxcontact.accuracy import _dominates, study
+from jaxcontact.studies import reference
+from jaxcontact.studies.accuracy import _dominates, study
 
 
+@needs_shared
 def test_mpmath_reference_matches_the_conformance_vectors():
-    rows = [r for r in csv.DictReader(open(CHECKPOINTS))
-            if r["model"] == "xia2024" and r["distribution"] == "mb" and r["status"] == "ok"][::4]
+    rows = [
+        r
+        for r in csv.DictReader(open(CHECKPOINTS))
+        if r["model"] == "xia2024" and r["distribution"] == "mb" and r["status"] == "ok"
+    ][::4]
     assert len(rows) >= 8
     for r in rows:
         K, a_l = reference.stiffness(*(float(r[k]) for k in "D G E nu H area l_min load_N".split()), r["interaction"])
@@ -26,13 +30,14 @@ def test_quick_study_orders_the_node_counts():
     assert four > 1e-4 > sixteen > thirty_two  # near breakdown 4 nodes are visibly wrong
     assert sixteen < 1e-11
     # Round-off amplified by K's conditioning 0.9998 of the way to breakdown.
-    assert thirty_two < 1e-12 and series < 1e-12
+    assert thirty_two < 1e-12
+    assert series < 1e-12
     assert [r["default"] for r in result["rows"]] == [True, False, False, False]
-    assert all(r["ms_per_1000_loads"] > 0 for r in result["rows"])
 
 
 def test_pareto_dominance_ignores_round_off():
     fast = dict(max_rel_error=3e-15, ms_per_1000_loads=1.0)
     slow = dict(max_rel_error=2e-15, ms_per_1000_loads=2.0)
-    assert _dominates(fast, slow) and not _dominates(slow, fast)
+    assert _dominates(fast, slow)
+    assert not _dominates(slow, fast)
     assert not _dominates(fast, dict(fast))

@@ -7,7 +7,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from conftest import TABLE1, make_scene
+import pytest
+from conftest import GETTERS, PARAMS, TABLE1, make_scene
 
 import jaxcontact as jc
 
@@ -17,10 +18,12 @@ LOADS = jnp.array([2.2, 22.0, 220.0])
 def test_scalar_and_shaped_loads(table1_scene):
     vector = jc.solve(table1_scene, LOADS)
     scalar = jc.solve(table1_scene, 22.0)
-    assert scalar.stiffness.shape == () and scalar.load_share.shape == (4,)
+    assert scalar.stiffness.shape == ()
+    assert scalar.load_share.shape == (4,)
     np.testing.assert_allclose(scalar.stiffness, vector.stiffness[1], rtol=1e-14)
     grid = jc.solve(table1_scene, jnp.stack([LOADS, LOADS]))
-    assert grid.stiffness.shape == (2, 3) and grid.load_share.shape == (2, 3, 4)
+    assert grid.stiffness.shape == (2, 3)
+    assert grid.load_share.shape == (2, 3, 4)
     np.testing.assert_allclose(grid.stiffness[1], vector.stiffness, rtol=1e-14)
 
 
@@ -34,9 +37,11 @@ def test_jit_and_vmap_over_loads(table1_scene):
 def test_vmap_over_batched_scenes():
     Ds = [1.3, 1.4058, 1.6]
     expected = [jc.solve(make_scene(**(TABLE1 | {"D": D})), LOADS).stiffness for D in Ds]
-    # equinox idiom: only the array leaves (here D) are batched.
-    batched = eqx.tree_at(lambda s: s.surface.D, make_scene(**TABLE1), jnp.array(Ds))
-    out = eqx.filter_vmap(lambda s: jc.solve(s, LOADS).stiffness)(batched)
+    # equinox idiom: in_axes as a tree like the scene's, mapping only D.
+    scene = make_scene(**TABLE1)
+    batched = eqx.tree_at(lambda s: s.surface.D, scene, jnp.array(Ds))
+    in_axes = eqx.tree_at(lambda s: s.surface.D, jax.tree.map(lambda _: None, scene), 0, is_leaf=lambda x: x is None)
+    out = eqx.filter_vmap(lambda s: jc.solve(s, LOADS).stiffness, in_axes=(in_axes,))(batched)
     np.testing.assert_allclose(out, jnp.stack(expected), rtol=1e-12)
     # plain jax.vmap over a fully stacked scene.
     stacked = jc.stack_scenes([make_scene(**(TABLE1 | {"D": D})) for D in Ds])
@@ -49,21 +54,33 @@ def test_vmap_over_batched_scenes():
     batch = jax.vmap(jc.solve, in_axes=(0, None))(jc.stack_scenes(scenes), LOADS)
     for row, (E, A) in enumerate(scales):
         np.testing.assert_allclose(batch.load_star[row], LOADS / (E * A), rtol=1e-15)
-        np.testing.assert_allclose(batch.stiffness_star[row], jc.solve(scenes[row], LOADS).stiffness / (E * np.sqrt(A)),
-                                   rtol=1e-12)
+        np.testing.assert_allclose(
+            batch.stiffness_star[row], jc.solve(scenes[row], LOADS).stiffness / (E * np.sqrt(A)), rtol=1e-12
+        )
 
 
 def test_jvp_matches_grad(table1_scene):
     def K(D):
         return jc.solve(eqx.tree_at(lambda s: s.surface.D, table1_scene, D), 22.0).stiffness
+
     _, tangent = jax.jvp(K, (1.4058,), (1.0,))
     np.testing.assert_allclose(tangent, jax.grad(K)(1.4058), rtol=1e-10)
 
 
-def test_gradient_with_respect_to_the_whole_scene(table1_scene):
-    grads = jax.grad(lambda s: jc.solve(s, 22.0).stiffness)(jax.tree.map(jnp.asarray, table1_scene))
-    leaves = jax.tree.leaves(grads)
-    assert len(leaves) == 7 and all(np.isfinite(x) for x in leaves)
+@pytest.fixture(scope="module")
+def whole_scene_gradient(table1_scene):
+    return jax.grad(lambda s: jc.solve(s, 22.0).stiffness)(table1_scene)
+
+
+@pytest.mark.parametrize("name", PARAMS)
+def test_gradient_with_respect_to_the_whole_scene(table1_scene, whole_scene_gradient, name):
+    """`jax.grad` with respect to the scene itself: each leaf's derivative against central differences."""
+    grads = whole_scene_gradient
+    value = TABLE1[name]
+    h = 1e-6 * value
+    up = float(jc.solve(eqx.tree_at(GETTERS[name], table1_scene, value + h), 22.0).stiffness)
+    down = float(jc.solve(eqx.tree_at(GETTERS[name], table1_scene, value - h), 22.0).stiffness)
+    np.testing.assert_allclose(float(GETTERS[name](grads)), (up - down) / (2 * h), rtol=1e-6)
 
 
 def test_dimensionless_outputs(table1_scene):
@@ -79,12 +96,21 @@ def test_dimensionless_outputs(table1_scene):
 
 
 def test_import_does_not_enable_x64():
-    code = "import jax, jaxcontact; assert not jax.config.jax_enable_x64; print(jaxcontact.solve(jaxcontact.Scene(jaxcontact.Surface(1.4, 1e-10), jaxcontact.Material(2e11, 0.3, 1e11), 1e-4), 10.0).stiffness.dtype)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                         env={"JAX_PLATFORMS": "cpu", "PATH": ""})
+    code = (
+        "import jax, jaxcontact as jc; assert not jax.config.jax_enable_x64; "
+        "print(jc.solve(jc.Scene(jc.Surface(1.4, 1e-10), jc.Material(2e11, 0.3, 1e11), 1e-4), 10.0).stiffness.dtype)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        env={"JAX_PLATFORMS": "cpu", "PATH": ""},
+    )
     assert out.stdout.strip() == "float32"
 
 
 def test_status_names():
-    assert jc.status_message(0) == "ok" and jc.status_message(2) == "interaction_breakdown"
+    assert jc.status_message(0) == "ok"
+    assert jc.status_message(2) == "interaction_breakdown"
     assert jc.status_message(jc.Status.LOAD_OUT_OF_RANGE) == "load_out_of_range"

@@ -16,8 +16,10 @@ F0 = 22.0
 
 def quadrature(scene, F, F0):
     """∫_{F0}^{F} dF'/K(F') by scipy quad in ln F, K from `solve`."""
+
     def integrand(log_F):
         return np.exp(log_F) / float(jc.solve(scene, np.exp(log_F)).stiffness)
+
     value, _ = integrate.quad(integrand, np.log(F0), np.log(F), epsrel=1e-11, epsabs=0.0, limit=200)
     return value
 
@@ -58,7 +60,8 @@ def test_flagged_points():
     scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9)  # 1130 N breaks down with "paper"
     result = jc.approach(scene, jnp.array([1.13, 113.0, 1130.0]), 11.3)
     np.testing.assert_array_equal(result.status, [0, 0, jc.Status.INTERACTION_BREAKDOWN])
-    assert np.all(np.isfinite(np.asarray(result.approach)[:2])) and np.isnan(float(result.approach[2]))
+    assert np.all(np.isfinite(np.asarray(result.approach)[:2]))
+    assert np.isnan(float(result.approach[2]))
 
 
 def test_bad_reference_load(table1_scene):

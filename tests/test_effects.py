@@ -4,7 +4,7 @@ import jax
 import jax.extend
 import jax.numpy as jnp
 import numpy as np
-from conftest import TABLE1, make_scene
+from conftest import TABLE1, make_joint, make_scene
 
 import jaxcontact as jc
 
@@ -28,40 +28,39 @@ def program(scene):
 
 def has_quadrature_nodes(closed, eqns, nodes):
     """True where an array with a trailing axis of `nodes` (the Gauss–Legendre nodes) exists."""
-    shapes = [getattr(v.aval, "shape", ()) for e in eqns for v in list(e.invars) + list(e.outvars) if hasattr(v, "aval")]
+    shapes = [
+        getattr(v.aval, "shape", ()) for e in eqns for v in list(e.invars) + list(e.outvars) if hasattr(v, "aval")
+    ]
     shapes += [np.shape(c) for c in closed.consts]
     return any(len(s) and s[-1] == nodes for s in shapes)
 
 
 def test_without_interaction_the_pressure_never_reaches_the_stiffness():
-    joint = jc.make_joint(make_scene(**TABLE1, interaction="none"))
+    joint = make_joint(make_scene(**TABLE1, interaction="none"))
     jaxpr = jax.make_jaxpr(lambda la, lp: joint.response(la, lp).regime_stiffness)(-20.0, -13.0).jaxpr
     pressure = jaxpr.invars[1]
     assert all(pressure not in e.invars for e in all_equations(jaxpr))
-    with_interaction = jc.make_joint(make_scene(**TABLE1, interaction="paper"))
+    with_interaction = make_joint(make_scene(**TABLE1, interaction="paper"))
     jaxpr = jax.make_jaxpr(lambda la, lp: with_interaction.response(la, lp).regime_stiffness)(-20.0, -13.0).jaxpr
     assert any(jaxpr.invars[1] in e.invars for e in all_equations(jaxpr))
 
 
 def test_interaction_quadrature_only_when_asked():
     nodes = 37  # an unusual count, so that no other array has this trailing size
-    counts = {}
     for interaction, quadrature in (("none", None), ("paper", "gauss-legendre"), ("series", None), ("paper", None)):
         scene = make_scene(**TABLE1, interaction=interaction, quadrature=quadrature, quadrature_nodes=nodes)
         closed, eqns = program(scene)
-        counts[interaction, scene.quadrature] = len(eqns)
+        quadrature = scene.model.quadrature.name
         # The default for "paper" sums the pole term's series: no nodes at all.
-        expected = interaction != "none" and scene.quadrature == "gauss-legendre"
-        assert has_quadrature_nodes(closed, eqns, nodes) == expected, (interaction, scene.quadrature)
-    # The a_l solve dominates the program; the interaction adds equations however it is integrated.
-    assert counts["paper", "gauss-legendre"] - counts["none", "gauss-legendre"] >= 40, counts
-    assert counts["paper", "power-series"] - counts["none", "gauss-legendre"] >= 40, counts
+        expected = interaction != "none" and quadrature == "gauss-legendre"
+        assert has_quadrature_nodes(closed, eqns, nodes) == expected, (interaction, quadrature)
 
 
 def test_regime_shares_only_when_asked():
     lean = make_scene(**TABLE1, regime_shares=False)
     sol = jc.solve(lean, LOADS)
-    assert sol.load_share is None and sol.stiffness_share is None
+    assert sol.load_share is None
+    assert sol.stiffness_share is None
     # Same numbers (XLA may fuse the two programs differently: last-bit differences only).
     np.testing.assert_allclose(sol.stiffness, jc.solve(make_scene(**TABLE1), LOADS).stiffness, rtol=1e-14)
     assert len(program(lean)[1]) < len(program(make_scene(**TABLE1))[1])
@@ -71,6 +70,7 @@ def test_mb_distribution_has_no_wk_root_find():
     # ψ's equation is the only user of log1p in the forward program (the default quadrature).
     def log1ps(eqns):
         return sum(e.primitive.name == "log1p" for e in eqns)
+
     psi_solve = log1ps(all_equations(jax.make_jaxpr(jc.wang_komvopoulos_psi)(jnp.asarray(1.4)).jaxpr))
     assert psi_solve > 0
     assert log1ps(program(make_scene(**TABLE1, distribution="wk"))[1]) == psi_solve

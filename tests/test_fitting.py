@@ -22,9 +22,13 @@ def table1():
 
 RECOVERY_CASES = [
     # several (D, G) across the range with the default model ...
-    ("xia2024", "paper", 1.25, 3e-11), ("xia2024", "paper", 1.4058, 2.2826e-10), ("xia2024", "paper", 1.6, 5e-10),
+    ("xia2024", "paper", 1.25, 3e-11),
+    ("xia2024", "paper", 1.4058, 2.2826e-10),
+    ("xia2024", "paper", 1.6, 5e-10),
     # ... and every other model and interaction mode, each at its own (D, G)
-    ("xia2024", "none", 1.6, 5e-10), ("xia2024", "series", 1.25, 3e-11), ("jzz2010", "none", 1.4058, 2.2826e-10),
+    ("xia2024", "none", 1.6, 5e-10),
+    ("xia2024", "series", 1.25, 3e-11),
+    ("jzz2010", "none", 1.4058, 2.2826e-10),
 ]
 
 
@@ -45,7 +49,8 @@ def test_lbfgs_and_lm_agree_on_noisy_data(table1):
     loads, K = table1_generated(table1)
     lbfgs = fitting.fit(loads, K, make_scene(**START), method="lbfgs")
     lm = fitting.fit(loads, K, make_scene(**START), method="lm")
-    assert lbfgs.success and lm.success
+    assert lbfgs.success
+    assert lm.success
     np.testing.assert_allclose(lbfgs.values["D"], lm.values["D"], rtol=1e-7)
     np.testing.assert_allclose(lbfgs.values["G"], lm.values["G"], rtol=1e-5)
 
@@ -53,11 +58,12 @@ def test_lbfgs_and_lm_agree_on_noisy_data(table1):
 def test_a_single_lm_start_converges(table1):
     """The bench's 30-point curve from one start: LM's default tolerance must sit above the
     round-off of its steps along the D–G valley (at 1e-12 it wandered for all 400 iterations)."""
-    from jaxcontact.bench import _data
+    from jaxcontact.studies.bench import _data
 
     loads, K = _data(table1)
     result = fitting.fit(loads, K, make_scene(**dict(START, D=1.5)), method="lm", n_starts=1)
-    assert result.success and result.iterations < 50, (result.iterations, result.summary())
+    assert result.success, (result.iterations, result.summary())
+    assert result.iterations < 50, (result.iterations, result.summary())
     assert abs(result.values["D"] - TRUTH["D"]) < 0.01
 
 
@@ -86,7 +92,8 @@ def test_coverage_over_40_noise_seeds(table1):
         for name, value in TRUTH.items():
             lo, hi = result.ci95[name]
             covered[name] += lo < value < hi
-    assert covered["D"] >= 34 and covered["G"] >= 34, covered
+    assert covered["D"] >= 34, covered
+    assert covered["G"] >= 34, covered
     assert np.max(np.abs(errors)) < 0.01
 
 
@@ -115,7 +122,8 @@ def test_flagged_points_are_named_not_dropped_silently():
     K = np.array(jc.solve(scene, loads).stiffness)
     K[-1] = 4e11  # a measured value where the model has none
     result = fitting.fit(loads, K, make_scene(1.45, 1e-9, 1.13e11, 0.3, 4e9, 1e-4, 1e-9), n_starts=16)
-    assert list(result.flagged) == [20] and np.isnan(result.residuals[20])
+    assert list(result.flagged) == [20]
+    assert np.isnan(result.residuals[20])
     assert any("1130 N (interaction_breakdown)" in w for w in result.warnings)
     np.testing.assert_allclose([result.values["D"], result.values["G"]], [1.5, 3e-10], rtol=1e-6)
 
@@ -133,40 +141,51 @@ def test_other_parameters_can_be_fitted():
 def test_result_is_complete_and_serialisable(table1):
     loads, K = table1_generated(table1)
     result = fitting.fit(loads, K, make_scene(**START))
-    assert result.params == ("D", "G") and result.iterations > 0 and result.wall_time > 0
+    assert result.params == ("D", "G")
+    assert result.iterations > 0
+    assert result.wall_time > 0
     c = result.correlation
     np.testing.assert_allclose(c, c.T)
     np.testing.assert_allclose(np.diag(c), 1.0)
     assert abs(c[0, 1]) < 1
-    assert result.residuals.shape == loads.shape and np.all(np.isfinite(result.residuals))
+    assert result.residuals.shape == loads.shape
+    assert np.all(np.isfinite(result.residuals))
     rms = np.sqrt(np.mean(result.residuals**2))
     assert 0.03 < rms < 0.07  # 5 % noise
     # The curve is padded to 64 points with copies of its first point: they must weigh nothing.
     np.testing.assert_allclose(result.loss, 0.5 * np.mean(result.residuals**2), rtol=1e-12)
     reversed_ = fitting.fit(loads[::-1], K[::-1], make_scene(**START))
-    np.testing.assert_allclose([reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]],
-                               rtol=1e-9)
+    np.testing.assert_allclose(
+        [reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]], rtol=1e-9
+    )
     json.dumps(result.to_dict())
-    assert isinstance(result.scene, jc.Scene) and float(result.scene.surface.D) == result.values["D"]
+    assert isinstance(result.scene, jc.Scene)
+    assert float(result.scene.surface.D) == result.values["D"]
 
 
-@pytest.mark.parametrize("kw, message", [
-    (dict(params="D,Q"), r"'Q' cannot be fitted"),
-    (dict(method="adam"), r"method = 'adam' is not one of"),
-    (dict(params=("D", "D")), r"names a parameter twice"),
-])
+@pytest.mark.parametrize(
+    "kw, message",
+    [
+        (dict(params="D,Q"), r"'Q' cannot be fitted"),
+        (dict(method="adam"), r"method = 'adam' is not one of"),
+        (dict(params=("D", "D")), r"names a parameter twice"),
+    ],
+)
 def test_bad_arguments(table1, kw, message):
     with pytest.raises(ValueError, match=message):
         fitting.fit([1.0, 2.0, 3.0], [1e8, 2e8, 3e8], table1, **kw)
 
 
-@pytest.mark.parametrize("text, message", [
-    ("load,K\n1,2\n", "lacks the columns 'load_N,stiffness_N_per_m'"),
-    ("load_N,stiffness_N_per_m\n1,2\n3,x\n5,6\n", "row 3, column stiffness_N_per_m: 'x' is not a number"),
-    ("load_N,stiffness_N_per_m\n1,2\n-3,4\n5,6\n", "row 3, column load_N: -3 must be a positive finite number"),
-    ("load_N,stiffness_N_per_m\n1,2\n", "1 data rows; a fit needs at least 3"),
-    ("# only a comment\n", "no header row"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("load,K\n1,2\n", "lacks the columns 'load_N,stiffness_N_per_m'"),
+        ("load_N,stiffness_N_per_m\n1,2\n3,x\n5,6\n", "row 3, column stiffness_N_per_m: 'x' is not a number"),
+        ("load_N,stiffness_N_per_m\n1,2\n-3,4\n5,6\n", "row 3, column load_N: -3 must be a positive finite number"),
+        ("load_N,stiffness_N_per_m\n1,2\n", "1 data rows; a fit needs at least 3"),
+        ("# only a comment\n", "no header row"),
+    ],
+)
 def test_csv_errors(table1, text, message):
     with pytest.raises(fitting.DataError, match=message):
         fitting.parse_curve(text, table1, "c.csv")
@@ -186,6 +205,7 @@ def test_cli_fit(tmp_path, capsys, monkeypatch):
     assert main(["fit", data, "--format", "json", "--out", str(tmp_path), "--method", "lm"]) == 0
     payload = json.loads(capsys.readouterr().out)
     lo, hi = payload["ci95"]["D"]
-    assert lo < TRUTH["D"] < hi and payload["success"]
+    assert lo < TRUTH["D"] < hi
+    assert payload["success"]
     assert (tmp_path / "fit.png").stat().st_size > 10_000
     assert jax.config.jax_enable_x64

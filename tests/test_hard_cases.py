@@ -5,10 +5,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import PARAMS, TABLE1, make_scene, params_of, with_params
+from conftest import PARAMS, TABLE1, make_joint, make_scene, params_of, with_params
 
 import jaxcontact as jc
-from jaxcontact.scipy_baseline import BaselineParameters, solve_point
+from jaxcontact.studies.scipy_baseline import BaselineParameters, solve_point
 
 E, AREA = TABLE1["E"], TABLE1["area"]
 
@@ -17,6 +17,7 @@ def stiffness_at_D(scene, loads):
     @jax.jit
     def f(D):
         return jc.solve(eqx.tree_at(lambda s: s.surface.D, scene, D), loads).stiffness
+
     return f
 
 
@@ -58,15 +59,17 @@ def test_extreme_fractal_dimensions_match_scipy(D, interaction):
 
 
 def test_loads_from_tiny_to_the_out_of_range_limit(table1_scene):
-    joint = jc.make_joint(table1_scene)
+    joint = make_joint(table1_scene)
     F_max = float(joint.total_load(jnp.asarray(0.0))) * E * AREA  # a_l = A_a
     scene = make_scene(**TABLE1, interaction="none")  # "paper" breaks down long before F_max
     loads = jnp.array([1e-12 * E * AREA, 1e-9 * E * AREA, 0.5 * F_max, 0.999999 * F_max, 1.000001 * F_max, 10 * F_max])
     sol = jc.solve(scene, loads)
     np.testing.assert_array_equal(sol.status, [0, 0, 0, 0, 1, 1])
-    assert np.all(np.isfinite(sol.stiffness[:4])) and np.all(np.isnan(sol.stiffness[4:]))
+    assert np.all(np.isfinite(sol.stiffness[:4]))
+    assert np.all(np.isnan(sol.stiffness[4:]))
     assert np.all(np.diff(np.asarray(sol.stiffness[:4])) > 0)
-    assert float(sol.a_l[3]) <= AREA and float(sol.a_l[3]) > 0.99 * AREA
+    assert float(sol.a_l[3]) <= AREA
+    assert float(sol.a_l[3]) > 0.99 * AREA
     # The tiniest load: a_l just above the cutoff l_min², still solved to full precision.
     p = BaselineParameters(**TABLE1, interaction="none")
     a_l, K, _, _ = solve_point(p, float(loads[0]))
@@ -78,7 +81,7 @@ def test_l_min_close_to_sqrt_area():
     """l_min = 0.99 sqrt(A_a): a_l must lie in the sliver (0.98 A_a, A_a]."""
     params = {**TABLE1, "l_min": 0.99 * np.sqrt(TABLE1["area"])}
     scene = make_scene(**params, interaction="series")
-    joint = jc.make_joint(scene)
+    joint = make_joint(scene)
     F_max = float(joint.total_load(jnp.asarray(0.0))) * E * AREA
     loads = jnp.array([1e-3, 0.3, 0.9]) * F_max
     sol = jc.solve(scene, loads)
@@ -87,7 +90,9 @@ def test_l_min_close_to_sqrt_area():
     for i, F in enumerate(np.asarray(loads)):
         a_l, K, _, _ = solve_point(p, float(F))
         np.testing.assert_allclose([sol.a_l[i], sol.stiffness[i]], [a_l, K], rtol=1e-8)
-    g = jax.grad(lambda l: jc.solve(eqx.tree_at(lambda s: s.surface.l_min, scene, l), loads[1]).stiffness)(params["l_min"])
+    g = jax.grad(lambda lm: jc.solve(eqx.tree_at(lambda s: s.surface.l_min, scene, lm), loads[1]).stiffness)(
+        params["l_min"]
+    )
     assert np.isfinite(g)
 
 
@@ -100,21 +105,29 @@ def test_mixed_batch_keeps_good_points_and_their_gradients():
     np.testing.assert_array_equal(sol.status, [0, 2, 0, 1, 0])
     alone = jc.solve(scene, good)
     np.testing.assert_array_equal(sol.stiffness[jnp.array([0, 2, 4])], alone.stiffness)
-    assert np.isnan(float(sol.stiffness[1])) and np.isnan(float(sol.stiffness[3]))
-    assert np.isfinite(float(sol.a_l[1])) and np.isnan(float(sol.a_l[3]))  # breakdown still has a_l
+    assert np.isnan(float(sol.stiffness[1]))
+    assert np.isnan(float(sol.stiffness[3]))
+    assert np.isfinite(float(sol.a_l[1]))  # breakdown still has a_l
+    assert np.isnan(float(sol.a_l[3]))
 
     # With respect to every parameter: the scales E and A_a too, which multiply the flagged
     # points' NaN unless the masking is done with care. The second total goes through the
     # dimensionless properties, which divide that NaN by E and A_a after `solve` has returned.
     def masked_totals(theta, loads):
         s = jc.solve(with_params(scene, theta), loads)
-        return jnp.stack([jnp.sum(jnp.where(s.ok, s.stiffness, 0.0)),
-                          jnp.sum(jnp.where(s.ok, s.stiffness_star + s.a_l_star + s.real_area_star, 0.0))])
+        return jnp.stack(
+            [
+                jnp.sum(jnp.where(s.ok, s.stiffness, 0.0)),
+                jnp.sum(jnp.where(s.ok, s.stiffness_star + s.a_l_star + s.real_area_star, 0.0)),
+            ]
+        )
 
     theta = params_of(scene)
     g_batch = jax.jacrev(masked_totals)(theta, batch)
     g_good = jax.jacrev(masked_totals)(theta, good)
-    assert g_batch.shape == (2, 7) and np.all(np.isfinite(g_batch)) and np.all(g_good != 0)
+    assert g_batch.shape == (2, 7)
+    assert np.all(np.isfinite(g_batch))
+    assert np.all(g_good != 0)
     np.testing.assert_allclose(g_batch, g_good, rtol=1e-12)
 
 
@@ -143,7 +156,8 @@ def test_float32_agrees_with_float64(model, interaction):
         np.testing.assert_allclose(sol.stiffness, ref.stiffness, rtol=1e-4)
         np.testing.assert_allclose(sol.a_l, ref.a_l, rtol=1e-4)
         g32 = jax.grad(lambda D: jc.solve(eqx.tree_at(lambda s: s.surface.D, scene64, D), np.float32(22.0)).stiffness)(
-            np.float32(1.4058))
+            np.float32(1.4058)
+        )
     g64 = jax.grad(lambda D: jc.solve(eqx.tree_at(lambda s: s.surface.D, scene64, D), 22.0).stiffness)(1.4058)
     np.testing.assert_allclose(g32, g64, rtol=1e-3)
 
@@ -171,8 +185,17 @@ def test_traced_parameters_outside_their_domain_are_flagged_not_raised():
 
     value_and_grad = jax.jit(jax.value_and_grad(total, has_aux=True))  # one compile for every case
     theta = params_of(scene)
-    cases = [("D", 2.0), ("D", 1.0), ("D", np.nan), ("G", 0.0), ("E", -1.0), ("H", 0.0), ("nu", 0.5), ("area", 0.0),
-             ("l_min", 0.02)]  # l_min² > A_a
+    cases = [
+        ("D", 2.0),
+        ("D", 1.0),
+        ("D", np.nan),
+        ("G", 0.0),
+        ("E", -1.0),
+        ("H", 0.0),
+        ("nu", 0.5),
+        ("area", 0.0),
+        ("l_min", 0.02),
+    ]  # l_min² > A_a
     for name, value in cases:
         (total_value, status), grad = value_and_grad(theta.at[PARAMS.index(name)].set(value))
         np.testing.assert_array_equal(status, [jc.Status.INVALID_PARAMETERS] * 2, err_msg=name)
@@ -185,12 +208,13 @@ def test_paper_interaction_stays_accurate_right_up_to_breakdown(D, G, E, nu, H):
     """The pole of 1/(1 - r) reaches the stiffness range at breakdown; K must stay exact up to it."""
     from scipy import optimize
 
-    from jaxcontact import reference
+    from jaxcontact.studies import reference
 
     scene = make_scene(D, G, E, nu, H, 1e-4, 1e-9)
     run = jax.jit(lambda F: jc.solve(scene, F).status)
-    log_breakdown = optimize.brentq(lambda lf: 0.5 - float(run(jnp.exp(lf)) == 2), np.log(1e-9 * E * 1e-4),
-                                    np.log(1e-1 * E * 1e-4), xtol=1e-13)
+    log_breakdown = optimize.brentq(
+        lambda lf: 0.5 - float(run(jnp.exp(lf)) == 2), np.log(1e-9 * E * 1e-4), np.log(1e-1 * E * 1e-4), xtol=1e-13
+    )
     loads = np.exp(log_breakdown) * np.array([0.5, 0.99, 0.999, 0.9999])
     sol = jc.solve(scene, jnp.asarray(loads))
     assert np.all(np.asarray(sol.status) == 0)

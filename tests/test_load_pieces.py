@@ -5,20 +5,25 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, log_total_load_slopes, make_scene, total_loads
+from conftest import TABLE1, log_total_load_slopes, make_joint, make_scene, total_loads
 
 import jaxcontact as jc
-from jaxcontact.load_pieces import GenericLoadPieces, PowerLawLoadPieces
-from jaxcontact.solve import make_joint, prepare
+from jaxcontact.core.loadcontrol import prepare
+from jaxcontact.models.load_pieces import GenericLoadPieces, PowerLawLoadPieces
 
 
 @eqx.filter_jit
 def piece_log_loads(pieces, log_a_l, piece):
     """ln F_t* on one piece, its slope in ln a_l* by autodiff, and the pieces' own (closed-form) slope."""
+
     def log_load(x):
         return pieces.log_load(x, piece)
-    return (jax.vmap(log_load)(log_a_l), jax.vmap(jax.grad(log_load))(log_a_l),
-            jax.vmap(lambda x: pieces.log_load_slope(x, piece))(log_a_l))
+
+    return (
+        jax.vmap(log_load)(log_a_l),
+        jax.vmap(jax.grad(log_load))(log_a_l),
+        jax.vmap(lambda x: pieces.log_load_slope(x, piece))(log_a_l),
+    )
 
 
 def joint_of(**kw):
@@ -32,9 +37,10 @@ def test_closed_form_pieces_equal_the_full_regime_sums(D, distribution):
     pieces = joint.load_pieces()
     assert isinstance(pieces, PowerLawLoadPieces)
     knots = np.asarray(pieces.knots)
-    assert np.all(np.diff(knots) >= 0) and knots[0] == float(joint.log_a_min) and knots[-1] == 0.0
-    np.testing.assert_allclose(pieces.knot_log_loads[1:], np.log(total_loads(joint, pieces.knots[1:])),
-                               rtol=1e-13)
+    assert np.all(np.diff(knots) >= 0)
+    assert knots[0] == float(joint.log_a_min)
+    assert knots[-1] == 0.0
+    np.testing.assert_allclose(pieces.knot_log_loads[1:], np.log(total_loads(joint, pieces.knots[1:])), rtol=1e-13)
     for piece in range(4):
         lo, hi = knots[piece], knots[piece + 1]
         if hi <= lo:

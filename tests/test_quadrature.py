@@ -3,17 +3,17 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import TABLE1, make_joint, make_scene
 
 import jaxcontact as jc
-from jaxcontact.interaction import stiffness_without_interaction
-from jaxcontact.quadrature import integrate_log_area
+from jaxcontact.numerics.quadrature import integrate_log_area
+from jaxcontact.physics.interaction import stiffness_without_interaction
 
 
 @pytest.mark.parametrize("D", [1.01, 1.1, 1.25, 1.4058, 1.5, 1.65, 1.8, 1.99])
 def test_quadrature_reproduces_closed_forms(D):
     params = {**TABLE1, "D": D, "G": 1e-10}
-    joint = jc.make_joint(make_scene(**params, interaction="none"))
+    joint = make_joint(make_scene(**params, interaction="none"))
     for log_a_l in (-20.0, -12.0, -3.0):
         lower, upper = joint.intervals(jnp.asarray(log_a_l))
         n = joint.distribution(jnp.asarray(log_a_l))

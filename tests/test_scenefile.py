@@ -7,7 +7,7 @@ import pytest
 from conftest import ROOT, TABLE1
 
 import jaxcontact as jc
-from jaxcontact.scenefile import SceneFileError, load_scene, parse_scene
+from jaxcontact.cli.scenefile import SceneFileError, load_scene, parse_scene
 
 GOOD = {
     "surface": {"D": 1.4058, "G": 2.2826e-10},
@@ -20,11 +20,13 @@ GOOD = {
 def test_embedded_default_is_the_data_file():
     data_file = ROOT / "data" / "scenes" / "table1_grinding.toml"
     spec, from_data = load_scene(), load_scene(data_file)
-    assert spec.title == from_data.title and np.array_equal(spec.loads, from_data.loads)
+    assert spec.title == from_data.title
+    assert np.array_equal(spec.loads, from_data.loads)
     s = spec.scene
     assert (s.surface.D, s.surface.G, s.surface.l_min, s.material.E, s.material.nu, s.material.H, s.area) == tuple(
-        TABLE1[k] for k in ("D", "G", "l_min", "E", "nu", "H", "area"))
-    assert (s.model, s.interaction, s.distribution) == ("xia2024", "paper", "mb")
+        TABLE1[k] for k in ("D", "G", "l_min", "E", "nu", "H", "area")
+    )
+    assert s.model == jc.Xia2024(jc.PaperInteraction(), jc.MajumdarBhushan())
     np.testing.assert_allclose(spec.load_star[[0, -1]], [1e-7, 1e-3], rtol=1e-12)
     assert spec.loads.size == 41
 
@@ -42,23 +44,26 @@ def with_(table, key, value):
     return data
 
 
-@pytest.mark.parametrize("data, message", [
-    (with_("surface", "Dd", 1.4), r"unknown key surface.Dd \(allowed in \[surface\]: D, G, l_min\)"),
-    (with_("surface", "D", "rough"), r"surface.D = 'rough' must be a number"),
-    (with_("surface", "D", 2.3), r"D \(fractal dimension\) = 2.3 is outside its valid range \(1, 2\)"),
-    (with_("material", "nu", 0.7), r"nu .*= 0.7 .*\[0, 0.5\)"),
-    (with_("model", "name", "gw"), r"model = 'gw' is not one of 'xia2024', 'jzz2010'"),
-    (with_("effects", "interaction", "strong"), r"interaction = 'strong' is not one of"),
-    (with_("effects", "regime_shares", "yes"), r"effects.regime_shares = 'yes' must be true or false"),
-    (with_("loads", "unit", "kN"), r"loads.unit = 'kN' is not one of 'N', 'F_star'"),
-    (with_("loads", "range", [1.0, 2.0]), r"exactly one of values"),
-    ({**GOOD, "loads": {"range": [5.0, 1.0]}}, r"loads.range = \[5.0, 1.0\] must satisfy 0 < low <= high"),
-    ({**GOOD, "loads": {"values": [1.0, -2.0]}}, r"loads.values\[1\] = -2.0 must be > 0"),
-    ({**GOOD, "loads": {"range": [1.0, 2.0], "count": 0}}, r"loads.count = 0 must be in"),
-    ({k: v for k, v in GOOD.items() if k != "material"}, r"missing table \[material\]"),
-    ({**GOOD, "surface": {"D": 1.4}}, r"missing key surface.G"),
-    ({**GOOD, "extras": {}}, r"unknown table \[extras\]"),
-])
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        (with_("surface", "Dd", 1.4), r"unknown key surface.Dd \(allowed in \[surface\]: D, G, l_min\)"),
+        (with_("surface", "D", "rough"), r"surface.D = 'rough' must be a number"),
+        (with_("surface", "D", 2.3), r"D \(fractal dimension\) = 2.3 is outside its valid range \(1, 2\)"),
+        (with_("material", "nu", 0.7), r"nu .*= 0.7 .*\[0, 0.5\)"),
+        (with_("model", "name", "gw"), r"model = 'gw' is not one of 'xia2024', 'jzz2010'"),
+        (with_("effects", "interaction", "strong"), r"interaction = 'strong' is not one of"),
+        (with_("effects", "regime_shares", "yes"), r"effects.regime_shares = 'yes' must be true or false"),
+        (with_("loads", "unit", "kN"), r"loads.unit = 'kN' is not one of 'N', 'F_star'"),
+        (with_("loads", "range", [1.0, 2.0]), r"exactly one of values"),
+        ({**GOOD, "loads": {"range": [5.0, 1.0]}}, r"loads.range = \[5.0, 1.0\] must satisfy 0 < low <= high"),
+        ({**GOOD, "loads": {"values": [1.0, -2.0]}}, r"loads.values\[1\] = -2.0 must be > 0"),
+        ({**GOOD, "loads": {"range": [1.0, 2.0], "count": 0}}, r"loads.count = 0 must be in"),
+        ({k: v for k, v in GOOD.items() if k != "material"}, r"missing table \[material\]"),
+        ({**GOOD, "surface": {"D": 1.4}}, r"missing key surface.G"),
+        ({**GOOD, "extras": {}}, r"unknown table \[extras\]"),
+    ],
+)
 def test_bad_files_name_the_key(data, message):
     with pytest.raises(SceneFileError, match=message):
         parse_scene(data)

@@ -6,24 +6,38 @@ import pytest
 from conftest import make_scene
 
 import jaxcontact as jc
-from jaxcontact.scipy_baseline import BaselineParameters, solve_point
+from jaxcontact.studies.scipy_baseline import BaselineParameters, solve_point
 
 rng = np.random.default_rng(20241121)
 CASES = [
-    dict(D=float(rng.uniform(1.05, 1.95)), G=float(10 ** rng.uniform(-12, -9)), E=float(10 ** rng.uniform(10.5, 11.7)),
-         nu=float(rng.uniform(0, 0.45)), H=float(10 ** rng.uniform(8.5, 10.5)), area=float(10 ** rng.uniform(-5, -3)),
-         l_min=float(10 ** rng.uniform(-9.5, -8)))
+    dict(
+        D=float(rng.uniform(1.05, 1.95)),
+        G=float(10 ** rng.uniform(-12, -9)),
+        E=float(10 ** rng.uniform(10.5, 11.7)),
+        nu=float(rng.uniform(0, 0.45)),
+        H=float(10 ** rng.uniform(8.5, 10.5)),
+        area=float(10 ** rng.uniform(-5, -3)),
+        l_min=float(10 ** rng.uniform(-9.5, -8)),
+    )
     for _ in range(4)
 ]
 
 
 @pytest.mark.parametrize("case", CASES, ids=[f"D={c['D']:.3f}" for c in CASES])
-@pytest.mark.parametrize("model, interaction, distribution", [
-    ("xia2024", "none", "mb"), ("xia2024", "paper", "wk"), ("xia2024", "series", "mb"), ("jzz2010", "none", "wk"),
-])
+@pytest.mark.parametrize(
+    "model, interaction, distribution",
+    [
+        ("xia2024", "none", "mb"),
+        ("xia2024", "paper", "wk"),
+        ("xia2024", "series", "mb"),
+        ("jzz2010", "none", "wk"),
+    ],
+)
 def test_matches_scipy_baseline(case, model, interaction, distribution):
     loads = np.array([1e-7, 1e-6, 1e-5]) * case["E"] * case["area"]
-    sol = jc.solve(make_scene(**case, model=model, interaction=interaction, distribution=distribution), jnp.asarray(loads))
+    sol = jc.solve(
+        make_scene(**case, model=model, interaction=interaction, distribution=distribution), jnp.asarray(loads)
+    )
     p = BaselineParameters(**case, model=model, interaction=interaction, distribution=distribution)
     for i, F in enumerate(loads):
         a_l, K, A_r, status = solve_point(p, float(F))

@@ -6,13 +6,16 @@ import subprocess
 import sys
 
 import numpy as np
-from conftest import ROOT
+from conftest import ROOT, TABLE1
+
+import jaxcontact as jc
+from jaxcontact.applications.chunks import solve_sweep
 
 SCRIPT = r"""
 import jax, json, numpy as np
 jax.config.update("jax_enable_x64", True)
 import jaxcontact as jc
-from jaxcontact.sweep import sweep
+from jaxcontact.applications.sharded_sweep import sweep
 assert len(jax.devices()) == 2, jax.devices()
 scene = jc.Scene(jc.Surface(1.4058, 2.2826e-10), jc.Material(220e9, 0.25, 100e9), 1e-4)
 D, G = np.linspace(1.3, 1.7, 5), np.geomspace(1e-11, 1e-9, 3)
@@ -34,23 +37,53 @@ def test_two_devices_equal_unsharded():
     env = {**os.environ, "XLA_FLAGS": "--xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu"}
     out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, env=env, cwd=ROOT, check=True)
     result = json.loads(out.stdout.strip().splitlines()[-1])
-    assert result["devices"] == 2 and result["status_equal"] and result["nan_match"]
+    assert result["devices"] == 2
+    assert result["status_equal"]
+    assert result["nan_match"]
     assert result["flagged"] > 0  # the grid reaches breakdown loads: flagged points travel too
-    assert result["max_diff_single"] < 1e-13 and result["max_diff_direct"] < 1e-13
+    assert result["max_diff_single"] < 1e-13
+    assert result["max_diff_direct"] < 1e-13
 
 
 def test_sweep_command_writes_csv(tmp_path, capsys, monkeypatch):
     from jaxcontact.cli import main
 
     monkeypatch.setenv("JAXCONTACT_CACHE", "")
-    assert main(["sweep", "--D", "1.4:1.6:2", "--G", "1e-10:1e-9:2", "--out", str(tmp_path), "--format", "json",
-                 "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "sweep",
+                "--D",
+                "1.4:1.6:2",
+                "--G",
+                "1e-10:1e-9:2",
+                "--out",
+                str(tmp_path),
+                "--format",
+                "json",
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     payload = json.loads(capsys.readouterr().out)
-    assert payload["points"] == 2 * 2 * 41 and len(payload["rows"]) == payload["points"]
+    assert payload["points"] == 2 * 2 * 41
+    assert len(payload["rows"]) == payload["points"]
     lines = (tmp_path / "sweep.csv").read_text().splitlines()
-    assert lines[0].startswith("D,G_m,F_N") and len(lines) == 1 + payload["points"]
+    assert lines[0].startswith("D,G_m,F_N")
+    assert len(lines) == 1 + payload["points"]
     assert main(["sweep", "--D", "1.4:1.6", "--out", str(tmp_path)]) == 2
     assert "LOW:HIGH:COUNT" in capsys.readouterr().err
     assert main(["sweep", "--D", "1.4:2.5:3", "--out", str(tmp_path)]) == 2
     assert "D (fractal dimension) = 2.5 is outside its valid range (1, 2)" in capsys.readouterr().err
     np.testing.assert_allclose(payload["rows"][0]["D"], 1.4)
+
+
+def test_a_chunked_solve_equals_one_solve(table1_scene):
+    """Loads in several chunks (the last padded): the same as one call, per-call fields included."""
+    loads = np.geomspace(1e-7, 1e-4, 10) * TABLE1["E"] * TABLE1["area"]
+    chunked = solve_sweep(table1_scene, loads, chunk=4)
+    whole = jc.solve(table1_scene, loads)
+    np.testing.assert_allclose(chunked.stiffness, np.asarray(whole.stiffness), rtol=1e-13)
+    np.testing.assert_allclose(chunked.load_star, np.asarray(whole.load_star), rtol=1e-15)
+    np.testing.assert_array_equal(chunked.modulus, np.asarray(whole.modulus))

@@ -1,0 +1,56 @@
+"""The fit's residuals: log stiffness of the model against the data, in statistical coordinates.
+
+`r_i = ln K_model(F_i; θ) - ln K_i`. Data points that the model cannot evaluate at a trial θ
+(interaction breakdown, load out of range) contribute a constant residual `FLAGGED_RESIDUAL` with
+no gradient, so that no start can win by pushing points out of the model.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+import jaxcontact as jc
+
+from .parameters import with_stat
+
+FLAGGED_RESIDUAL = 1.0  # a miss by a factor e in stiffness
+
+
+def log_residuals(stat, scene, params, loads, log_stiffness):
+    """`(r, ok)`: log-stiffness residuals at statistical coordinates `stat`, and the valid mask."""
+    r, ok, _ = residuals_and_status(stat, scene, params, loads, log_stiffness)
+    return r, ok
+
+
+def residuals_and_status(stat, scene, params, loads, log_stiffness):
+    sol = jc.solve(with_stat(scene, params, stat), loads)
+    ok = sol.ok & (sol.stiffness > 0)
+    K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
+    return jnp.where(ok, jnp.log(K) - log_stiffness, FLAGGED_RESIDUAL), ok, sol.status
+
+
+def stat_from_u(params, u):
+    return jnp.stack([p.stat_from_u(u[i]) for i, p in enumerate(params)])
+
+
+def residual_fn(scene, params, data):
+    loads, log_stiffness, weights = data
+
+    def residuals(u):
+        return weights * log_residuals(stat_from_u(params, u), scene, params, loads, log_stiffness)[0]
+
+    return residuals
+
+
+@eqx.filter_jit
+def residuals_and_jacobian(stat, scene, params, loads, log_stiffness):
+    """Residuals, valid mask, status and d(residual)/d(stat) at `stat` (Gauss–Newton statistics)."""
+
+    def residuals(s):
+        r, ok, status = residuals_and_status(s, scene, params, loads, log_stiffness)
+        return r, (r, ok, status)
+
+    J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
+    return r, ok, status, J

@@ -1,0 +1,149 @@
+"""The `jaxcontact` command line: run a scene, draw the paper's figures, time the model.
+
+Runs in float64 and keeps a persistent compilation cache, so repeated runs skip compilation.
+User mistakes (bad scene files, bad options) end with exit status 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import pathlib
+import sys
+
+from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
+from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
+
+EXIT_USAGE = 2
+
+
+_SETTINGS = (
+    "jax_enable_x64",
+    "jax_cpu_enable_async_dispatch",
+    "jax_compilation_cache_dir",
+    "jax_persistent_cache_min_compile_time_secs",
+    "jax_persistent_cache_min_entry_size_bytes",
+)
+
+
+@contextlib.contextmanager
+def command_settings():
+    """The command line's global settings while a command runs; the caller's afterwards.
+
+    float64; compiled calls run on the calling thread; a persistent compilation cache
+    (`JAXCONTACT_CACHE`, "" for none); and the imported modules left out of garbage collection.
+    Restored on exit, so that `main()` called in-process (tests, notebooks) changes nothing.
+    """
+    import gc
+
+    import jax
+
+    import jaxcontact  # noqa: F401  (the package and its dependencies, imported before the freeze)
+
+    before = {name: jax.config.values[name] for name in _SETTINGS}
+    jax.config.update("jax_enable_x64", True)
+    # Handing each compiled call to a worker thread (JAX's default on CPU) costs more than it hides
+    # for calls of ~0.1 ms, and the pool's spinning threads compete for the cores (openxla/xla#18608).
+    # Sharded (multi-device) computations stay asynchronous.
+    jax.config.update("jax_cpu_enable_async_dispatch", False)
+    cache = os.environ.get("JAXCONTACT_CACHE", str(pathlib.Path.home() / ".cache" / "jaxcontact" / "xla"))
+    if cache:
+        try:
+            pathlib.Path(cache).mkdir(parents=True, exist_ok=True)
+            jax.config.update("jax_compilation_cache_dir", cache)
+            jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+            jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+        except OSError:
+            pass  # a read-only home: run without the cache
+    # The modules just imported live as long as the process: tracing allocates millions of
+    # short-lived objects, and each full collection would otherwise walk all of jax, numpy and scipy.
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()
+        for name, value in before.items():
+            jax.config.update(name, value)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    def common(p, default_out):
+        p.add_argument("--format", choices=("table", "json"), default="table", help="output format on stdout")
+        p.add_argument("--out", default=default_out, help=f"output folder (default: {default_out})")
+        p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+
+    def scene_command(name, help, func, out, default_scene="table1_grinding.toml"):
+        p = sub.add_parser(name, help=help)
+        p.add_argument("scene", nargs="?", help=f"scene TOML file (default: embedded {default_scene})")
+        common(p, out)
+        p.set_defaults(func=func)
+        return p
+
+    scene_command(
+        "run", "solve a scene (default: the embedded Table 1 scene), write CSV and plots", cmd_run, "jaxcontact-out"
+    )
+    scene_command(
+        "approach",
+        "load–approach curve relative to a preload (scenes with [approach])",
+        cmd_approach,
+        "jaxcontact-out/approach",
+        "table1_dynamics.toml",
+    )
+    scene_command(
+        "dynamics",
+        "a driven mass on the joint: time history, frequency response, resonance against "
+        "preload (scenes with [dynamics])",
+        cmd_dynamics,
+        "jaxcontact-out/dynamics",
+        "table1_dynamics.toml",
+    )
+    p = sub.add_parser("figures", help="reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
+    common(p, "jaxcontact-out/figures")
+    p.set_defaults(func=cmd_figures)
+
+    p = sub.add_parser("fit", help="fit D and G (or other parameters) to a measured stiffness curve (CSV)")
+    p.add_argument("data", help="CSV with columns load_N,stiffness_N_per_m (or F_star,K_star)")
+    p.add_argument("--scene", help="scene TOML supplying the parameters that are not fitted (default: embedded)")
+    p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
+    p.add_argument("--method", choices=("lbfgs", "lm"), default="lbfgs", help="optimiser (default: lbfgs)")
+    p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
+    common(p, "jaxcontact-out")
+    p.set_defaults(func=cmd_fit)
+
+    p = scene_command(
+        "sweep", "D × G × load grid, sharded across all JAX devices; CSV output", cmd_sweep, "jaxcontact-out"
+    )
+    p.add_argument("--D", default="1.3:1.7:5", help="fractal dimensions LOW:HIGH:COUNT, linear (default 1.3:1.7:5)")
+    p.add_argument(
+        "--G", default="1e-11:1e-9:5", help="roughness (m) LOW:HIGH:COUNT, log-spaced (default 1e-11:1e-9:5)"
+    )
+    p.add_argument("--distributed", action="store_true", help="call jax.distributed.initialize() (multi-host runs)")
+    scene_command(
+        "accuracy", "error against time for every accuracy knob (reference: mpmath)", cmd_accuracy, "jaxcontact-out"
+    )
+    scene_command(
+        "bench", "time the compiled model: speed against scipy, each effect's cost", cmd_bench, "jaxcontact-out"
+    )
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        with command_settings():
+            return args.func(args)
+    except (ValueError, CommandError, OSError) as exc:  # SceneFileError and DataError are ValueErrors
+        print(f"jaxcontact {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("jaxcontact: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,113 @@
+"""Tables of a solution: rows as dictionaries, printed as text, JSON or CSV."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+
+from ..core.domain import PARAMETERS
+from ..core.solution import Solution
+from ..core.status import status_message
+
+
+def solution_rows(solution: Solution) -> list[dict]:
+    """One dictionary per load: F, F*, a_l, K, K*, A_r, status (and regime shares if computed)."""
+    rows = []
+    for i in range(np.size(solution.load)):
+        row = {
+            "F_N": float(solution.load[i]),
+            "F_star": float(solution.load_star[i]),
+            "a_l_m2": float(solution.a_l[i]),
+            "K_N_per_m": float(solution.stiffness[i]),
+            "K_star": float(solution.stiffness_star[i]),
+            "real_area_m2": float(solution.real_area[i]),
+            "status": status_message(solution.status[i]),
+        }
+        if solution.load_share is not None:
+            for j, regime in enumerate(solution.regimes):
+                row[f"load_share_{regime}"] = float(solution.load_share[i, j])
+                row[f"stiffness_share_{regime}"] = float(solution.stiffness_share[i, j])
+        rows.append(row)
+    return rows
+
+
+def _cell(value) -> str:
+    if isinstance(value, str):
+        return value
+    return "nan" if math.isnan(value) else f"{value:.6g}"
+
+
+HEADERS = {
+    "F_N": "F (N)",
+    "F_star": "F*",
+    "a_l_m2": "a_l (m²)",
+    "K_N_per_m": "K (N/m)",
+    "K_star": "K*",
+    "approach_m": "δ - δ0 (m)",
+}
+
+
+def format_table(rows: list[dict], columns=("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")) -> str:
+    header = [HEADERS.get(c, c) for c in columns]
+    cells = [[_cell(r[c]) for c in columns] for r in rows]
+    widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(header)]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]
+    lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths)) for row in cells]
+    return "\n".join(lines)
+
+
+def to_json(payload) -> str:
+    """JSON with NaN written as null (strict JSON has no NaN)."""
+
+    def clean(x):
+        if isinstance(x, float) and not math.isfinite(x):
+            return None
+        if isinstance(x, dict):
+            return {k: clean(v) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return [clean(v) for v in x]
+        return x
+
+    return json.dumps(clean(payload), indent=2)
+
+
+def scene_record(spec) -> dict:
+    """Everything that made a result: the scene's parameters (SI), its model and settings, the
+    loads' source and the version, so that a result file can be reproduced on its own."""
+    import jaxcontact
+
+    scene = spec.scene
+    parameters = {name: float(p.get(scene)) for name, p in PARAMETERS.items()}
+    settings = dict(regime_shares=scene.regime_shares, max_steps=scene.max_steps)
+    return {
+        "jaxcontact": jaxcontact.__version__,
+        "title": spec.title,
+        "source": spec.source,
+        "parameters_SI": parameters,
+        "model": scene.model.options(),
+        "settings": settings,
+    }
+
+
+def record_comments(record: dict) -> list[str]:
+    """`scene_record` as comment lines for a CSV file."""
+    parameters = ", ".join(
+        f"{k} = {v:.10g}" + (f" {PARAMETERS[k].unit}" if PARAMETERS[k].unit else "")
+        for k, v in record["parameters_SI"].items()
+    )
+    choices = ", ".join(f"{k} = {v}" for k, v in {**record["model"], **record["settings"]}.items())
+    return [f"jaxcontact {record['jaxcontact']}: {record['title']} ({record['source']})", parameters, choices]
+
+
+def write_csv(rows: list[dict], path, comments=()) -> None:
+    """Rows as CSV, after `comments` as `# ` lines (which `fitting.load_curve` and pandas'
+    `comment="#"` skip)."""
+    with open(path, "w", newline="") as f:
+        for line in comments:
+            f.write(f"# {line}\n")
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)

@@ -1,0 +1,139 @@
+"""The commands that study the library or sweep it: figures, bench, accuracy, sweep."""
+
+from __future__ import annotations
+
+import pathlib
+
+from .commands import CommandError, print_result
+
+
+def cmd_figures(args) -> int:
+    from ..studies.figures import make_figures
+
+    progress = None
+    if args.progress:
+        from tqdm.auto import tqdm
+
+        progress = lambda items: tqdm(items, desc="figures", unit="figure")  # noqa: E731
+    files = make_figures(args.out, progress=progress)
+    print_result({"files": files}, args.format, "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def cmd_bench(args) -> int:
+    from ..studies.bench import run_all
+    from ..studies.bench_report import format_results
+    from .scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    progress = None
+    if args.progress:
+        from tqdm.auto import tqdm
+
+        progress = lambda steps: tqdm(steps, desc="benchmarks", unit="step")  # noqa: E731
+    results = run_all(spec.scene, progress=progress)
+    print_result({"scene": spec.title, **results}, args.format, f"{spec.title}\n" + format_results(results))
+    return 0
+
+
+def cmd_accuracy(args) -> int:
+    from .scenefile import load_scene
+
+    try:
+        from ..studies.accuracy import format_study, plot_study, study
+    except ModuleNotFoundError as exc:
+        if exc.name != "mpmath":
+            raise
+        raise CommandError(
+            "the accuracy study needs mpmath for its reference: pip install 'jaxcontact[studies]'"
+        ) from None
+
+    spec = load_scene(args.scene)
+    options = spec.scene.model.options()
+    if options["model"] != "xia2024" or options["distribution"] != "mb":
+        raise CommandError("the accuracy study needs a scene with model 'xia2024' and distribution 'mb'")
+    progress = None
+    if args.progress:
+        from tqdm.auto import tqdm
+
+        progress = lambda items: tqdm(items, desc="knobs", unit="knob")  # noqa: E731
+    result = study(spec.scene, progress=progress)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = [plot_study(result, out / "accuracy.png")]
+    print_result(
+        {**result, "files": files}, args.format, format_study(result) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
+    )
+    return 0
+
+
+def _grid(text: str, name: str, log: bool):
+    import numpy as np
+
+    try:
+        low, high, count = text.split(":")
+        low, high, count = float(low), float(high), int(count)
+    except ValueError:
+        raise CommandError(
+            f"--{name} {text!r} must be LOW:HIGH:COUNT, e.g. " + ("1e-11:1e-9:5" if log else "1.3:1.7:5")
+        ) from None
+    if count < 1 or high < low or (log and low <= 0):
+        raise CommandError(f"--{name} {text!r}: need COUNT >= 1 and LOW <= HIGH" + (" with LOW > 0" if log else ""))
+    return np.geomspace(low, high, count) if log else np.linspace(low, high, count)
+
+
+def cmd_sweep(args) -> int:
+    import jax
+
+    from ..applications.sharded_sweep import sweep
+    from ..core.scales import Scales
+    from ..core.status import status_message
+    from .report import write_csv
+    from .scenefile import load_scene
+
+    if args.distributed:
+        jax.distributed.initialize()
+    spec = load_scene(args.scene)
+    D, G = _grid(args.D, "D", log=False), _grid(args.G, "G", log=True)
+    result = sweep(spec.scene, D, G, spec.loads, progress=args.progress)
+    scales = Scales.of(spec.scene)
+    load_unit, stiffness_unit = float(scales.load), float(scales.stiffness)
+    rows = [
+        {
+            "D": float(d),
+            "G_m": float(g),
+            "F_N": float(F),
+            "F_star": float(F) / load_unit,
+            "a_l_m2": float(result.a_l[i, j, k]),
+            "K_N_per_m": float(result.stiffness[i, j, k]),
+            "K_star": float(result.stiffness[i, j, k]) / stiffness_unit,
+            "status": status_message(result.status[i, j, k]),
+        }
+        for i, d in enumerate(D)
+        for j, g in enumerate(G)
+        for k, F in enumerate(result.loads)
+    ]
+    files = []
+    if jax.process_index() == 0:
+        out = pathlib.Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        write_csv(rows, out / "sweep.csv")
+        files.append(str(out / "sweep.csv"))
+    flagged = sum(r["status"] != "ok" for r in rows)
+    text = (
+        f"{spec.title}: {D.size} D × {G.size} G × {result.loads.size} loads = {len(rows)} points on "
+        f"{result.devices} device(s), {flagged} flagged\n" + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result(
+        {
+            "title": spec.title,
+            "devices": result.devices,
+            "points": len(rows),
+            "flagged": flagged,
+            "files": files,
+            "rows": rows if args.format == "json" else [],
+        },
+        args.format,
+        text,
+    )
+    return 0

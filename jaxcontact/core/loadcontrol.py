@@ -1,0 +1,150 @@
+"""Load control (Sec. 4, MODEL.md §4): the loads in, a `Solution` out.
+
+`solve` checks the loads, makes the scene dimensionless, asks the scene's model for its
+per-load solve (`AbstractContactModel.point_solver`; for the largest-spot models the a_l solve of
+`models.base`), maps it over the loads and rescales the results.
+
+Failed points never raise and never poison a batch: each is solved at a harmless stand-in
+load, its outputs are replaced by NaN and it is given a non-zero `status`, so the values and
+gradients of the other points are exactly what they would be alone.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, ArrayLike, Bool, Float
+
+from ..models.base import PointResult
+from ..numerics.elementwise import unrolled_sum
+from ..numerics.validate import concrete
+from .defaults import table1_values
+from .domain import PARAMETERS, inside_domain, scene_fields
+from .scales import Scales, nondimensionalise
+from .scene import Scene
+from .solution import Solution, is_solved, masked_rescale
+from .status import Status
+
+
+def _check_loads(loads) -> None:
+    values = concrete(loads)
+    if values is None:
+        return
+    bad = ~(np.isfinite(values) & (values > 0))
+    if np.any(bad):
+        where = np.argwhere(bad)[0]
+        index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
+        raise ValueError(
+            f"loads{index} = {float(values[tuple(where)])!r} N is not a valid load: "
+            "loads must be finite and > 0 (valid range (0, inf) N)"
+        )
+
+
+def _working_dtype(scene: Scene, loads):
+    # A weak Python float: float32 unless x64 is on or an input is already float64.
+    leaves = [x for x in jax.tree.leaves((scene, loads)) if eqx.is_array_like(x)]
+    return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
+
+
+def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
+    """The scene, with stand-in values if any float parameter is outside its domain; and whether none is.
+
+    Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
+    Evaluated as they are, such parameters give NaN, and a NaN inside the computation leaks into
+    gradients even where the result is masked (0 · NaN). Evaluated at a valid stand-in (and
+    flagged), masked points contribute exactly zero.
+    """
+    inside = inside_domain(scene)
+    # Any valid scene will do as the stand-in: the default one.
+    stand_in = table1_values()
+    values = tuple(jnp.where(inside, x, stand_in[name]) for x, name in zip(scene_fields(scene), PARAMETERS))
+    return eqx.tree_at(scene_fields, scene, values), inside
+
+
+def point_solver(scene: Scene):
+    """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
+
+    Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
+    `F_t` at the kinks that bracket each piece) is computed here, so that callers that evaluate
+    K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
+    parameters are outside their domain get `Status.INVALID_PARAMETERS`.
+    """
+    scene, in_domain = within_domain(scene)
+    s = nondimensionalise(scene)
+    dtype = jnp.result_type(s.log_a_min)
+    tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
+    model_point = scene.model.point_solver(s, tolerance=tolerance, max_steps=scene.max_steps)
+
+    def one_point(F_star) -> PointResult:
+        point = model_point(F_star)
+        status = jnp.where(in_domain, point.status, Status.INVALID_PARAMETERS).astype(jnp.int32)
+        return PointResult(point.log_a_l, point.response, status)
+
+    return one_point
+
+
+@eqx.filter_jit
+def _solve(scene: Scene, loads):
+    # The scales too come from the stand-in where the scene is out of its domain (the points are
+    # flagged by `point_solver`, which is handed the scene as it is).
+    guarded, _ = within_domain(scene)
+    scales = Scales.of(guarded)
+    load_star = loads / scales.load
+    points = jax.vmap(point_solver(scene))(load_star.reshape(-1))
+    log_a_l, response, status = points.log_a_l, points.response, points.status
+    shape = loads.shape
+    solved = is_solved(status)
+    ok = status == Status.OK
+    stiffness_total = unrolled_sum(response.regime_stiffness)
+    a_l_star = jnp.exp(log_a_l)
+    load_share = stiffness_share = None
+    regimes = scene.model.regimes
+    if scene.regime_shares:
+        load_total = jnp.where(solved, unrolled_sum(response.regime_load), 1.0)[:, None]
+        positive = jnp.where(ok & (stiffness_total > 0), stiffness_total, 1.0)[:, None]  # K = 0: all plastic
+        load_share = masked_rescale(solved[:, None], response.regime_load / load_total).reshape(shape + (len(regimes),))
+        stiffness_share = masked_rescale(ok[:, None], response.regime_stiffness / positive).reshape(
+            shape + (len(regimes),)
+        )
+    return Solution(
+        load=loads,
+        a_l=masked_rescale(solved, a_l_star, scales.area).reshape(shape),
+        stiffness=masked_rescale(ok, stiffness_total, scales.stiffness).reshape(shape),
+        real_area=masked_rescale(solved, response.real_area, scales.area).reshape(shape),
+        status=status.reshape(shape),
+        load_share=load_share,
+        stiffness_share=stiffness_share,
+        modulus=scales.modulus.reshape((1,) * len(shape)),
+        nominal_area=scales.area.reshape((1,) * len(shape)),
+        regimes=regimes,
+    )
+
+
+def prepare(scene: Scene, loads):
+    """Check concrete loads, pick the working dtype, and make every float leaf an array of it."""
+    _check_loads(loads)
+    dtype = _working_dtype(scene, loads)
+    return jax.tree.map(lambda x: jnp.asarray(x, dtype), scene), jnp.asarray(loads, dtype)
+
+
+def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
+    """Normal contact stiffness of the joint at each load (MODEL.md §4, Eqs. 30–39).
+
+    **Arguments:**
+
+    - `scene`: the joint and the model choices (`jaxcontact.Scene`).
+    - `loads`: total normal load F in newtons, a scalar or an array of any shape.
+
+    **Returns:** a `Solution` with one entry per load. Points that cannot be computed (load out of
+    range, interaction breakdown, unconverged solve, a traced non-positive load) carry a non-zero
+    `status` and NaN values; the rest of the batch is unaffected.
+
+    Works under `jax.jit`, `jax.vmap` (over loads, or over scenes whose float fields are
+    batched arrays) and `jax.grad`/`jax.jvp` with respect to every float field of the scene and
+    the loads. Runs in float64 when `jax_enable_x64` is on and in float32 otherwise.
+
+    **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
+    """
+    return _solve(*prepare(scene, loads))

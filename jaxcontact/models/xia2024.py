@@ -1,0 +1,183 @@
+"""The model of Xia, Qu & Liu (Aerospace 11, 472, 2024): the integrals over the size distribution
+(Sec. 4, Eqs. 30–39) of Kogut–Etsion asperities, small ones elastic, cut off at `a_min = l_min²`.
+
+For a given largest spot `a_l`, each regime's interval is clipped to `(a_min, a_l]` and
+
+    F_t(a_l) = Σ_{e,ep1,ep2,p} ∫ f(a) n(a) da        Eqs. (31)–(35)
+    K_t(a_l) = Σ_{e,ep1,ep2}   ∫ k(a) n(a) da        Eqs. (36)–(39)
+    A_r(a_l) = ∫ a n(a) da
+
+`F_t` does not depend on the interaction (MODEL.md §4): the paper's Eq. (31) writes f through ω,
+and with ω = a/(πR) that is Eq. (5) exactly. Without interaction all of these are power-law
+integrals with closed forms; with interaction the stiffness is the closed form plus a correction
+(`numerics.interaction_integral`).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ..core.scales import DimensionlessScene
+from ..numerics.interaction_integral import paper_correction, series_correction
+from ..numerics.powerlaw import PowerLaw
+from ..numerics.quadrature import AbstractQuadrature, GaussLegendre, PowerSeries
+from ..numerics.validate import check_instance
+from ..physics.asperity import interference, regime_edges, regime_load_laws
+from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
+from ..physics.interaction import (
+    AbstractInteraction,
+    PaperInteraction,
+    SeriesInteraction,
+    breakdown_log_area,
+    interaction_ratio,
+    stiffness_without_interaction,
+)
+from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from .load_pieces import PowerLawLoadPieces
+
+REGIMES = ("e", "ep1", "ep2", "p")
+# Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
+# not jnp arrays: a module-level array would freeze the precision that was active at import.
+_HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
+
+
+class Xia2024(AbstractLargestSpotModel):
+    """Xia, Qu & Liu (2024), MODEL.md §2–4: Kogut–Etsion regimes (e, ep1, ep2, p) over the
+    Majumdar–Bhushan size distribution, with interaction between asperities.
+
+    **Arguments:**
+
+    - `interaction`: `PaperInteraction()` (the default, `ω = ξ - σ` as Eqs. 23–26 print),
+      `SeriesInteraction()` (`ω = ξ + σ`) or `NoInteraction()`.
+    - `distribution`: `MajumdarBhushan()` (Eq. 30, the default) or `WangKomvopoulos()`.
+    - `quadrature`: how the interaction part of the stiffness is integrated. `PowerSeries()`
+      (the default for "paper": its pole term summed to round-off, no nodes), `GaussLegendre(nodes)`
+      (the default otherwise) or `Adaptive(tolerance)` (quadax Gauss–Kronrod). Unused without
+      interaction. `jaxcontact accuracy` shows what each costs.
+    """
+
+    name: ClassVar[str] = "xia2024"
+    regimes: ClassVar[tuple[str, ...]] = REGIMES
+    interaction: AbstractInteraction
+    distribution: AbstractDistribution
+    quadrature: AbstractQuadrature
+
+    def __init__(
+        self,
+        interaction: AbstractInteraction = PaperInteraction(),
+        distribution: AbstractDistribution = MajumdarBhushan(),
+        quadrature: AbstractQuadrature | None = None,
+    ):
+        self.interaction = interaction
+        self.distribution = distribution
+        if quadrature is None:
+            quadrature = PowerSeries() if isinstance(interaction, PaperInteraction) else GaussLegendre()
+        self.quadrature = quadrature
+
+    def __check_init__(self):
+        check_instance("interaction", self.interaction, AbstractInteraction)
+        check_instance("distribution", self.distribution, AbstractDistribution)
+        check_instance("quadrature", self.quadrature, AbstractQuadrature)
+        if isinstance(self.quadrature, PowerSeries) and isinstance(self.interaction, SeriesInteraction):
+            raise ValueError(
+                "quadrature = 'power-series' applies to interaction 'paper' only (got interaction = "
+                "'series'); use 'gauss-legendre' or 'adaptive'"
+            )
+
+    def options(self):
+        return {
+            "model": self.name,
+            "interaction": self.interaction.name,
+            "distribution": self.distribution.name,
+            "quadrature": self.quadrature.name,
+        }
+
+    def joint(self, s: DimensionlessScene) -> Xia2024Joint:
+        return Xia2024Joint(
+            D=s.D,
+            log_a_min=s.log_a_min,
+            log_density=self.distribution.log_scale(s.D),
+            edges=regime_edges(s.log_a_c),
+            load_laws=regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c),
+            interference_law=interference(s.D, s.log_G),
+            interaction=self.interaction,
+            quadrature=self.quadrature,
+        )
+
+
+class Xia2024Joint(AbstractJoint):
+    """Xia, Qu & Liu (2024): Kogut–Etsion regimes, small asperities elastic, cutoff at `a_min`."""
+
+    D: Float[Array, ""]
+    log_a_min: Float[Array, ""]
+    log_density: Float[Array, ""]
+    edges: Float[Array, " 5"]
+    load_laws: PowerLaw
+    interference_law: PowerLaw
+    interaction: AbstractInteraction
+    quadrature: AbstractQuadrature
+
+    def intervals(self, log_a_l):
+        """Each regime's range of `ln a`, clipped to `(ln a_min, ln a_l]`; empty ones have length 0."""
+        lower = jnp.clip(self.edges[:-1], self.log_a_min, log_a_l)
+        upper = jnp.clip(self.edges[1:], self.log_a_min, log_a_l)
+        return lower, upper
+
+    def distribution(self, log_a_l) -> PowerLaw:
+        return size_distribution(self.D, log_a_l, self.log_density)
+
+    def kinks(self):
+        return self.edges[1:-1]
+
+    def load_pieces(self) -> PowerLawLoadPieces:
+        return PowerLawLoadPieces.build(self.knots(), self.D / 2.0, self.load_laws * self.distribution(0.0))
+
+    def regime_load(self, log_a_l):
+        """Eqs. (31)–(34): `∫ f(a) n(a) da` over each regime, in closed form."""
+        lower, upper = self.intervals(log_a_l)
+        return (self.load_laws * self.distribution(log_a_l)).integral(lower, upper)
+
+    def regime_stiffness(self, log_a_l, log_load):
+        """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
+
+        Without interaction: closed forms. With interaction `k = k₀/(1 ± r)`, `k₀ = f'/ξ'`, plus
+        the correction `∫ k₀ n (1/(1 ± r) - 1) da` of `numerics.interaction_integral`.
+        """
+        lower, upper = self.intervals(log_a_l)
+        has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
+        integrand = stiffness_without_interaction(self.load_laws, self.interference_law) * self.distribution(log_a_l)
+        closed_form = integrand.integral(lower, upper) * has_stiffness
+        sign = self.interaction.sign
+        if sign == 0.0:
+            return closed_form, jnp.array(False)
+        ratio = interaction_ratio(self.load_laws, self.interference_law, log_load)
+        nonempty = (upper > lower) & (has_stiffness > 0)
+        if sign < 0:
+            breakdown = jnp.any(nonempty & (breakdown_log_area(ratio) <= upper))
+        else:
+            breakdown = jnp.array(False)
+        # At a breakdown point the value is discarded; a tiny ratio keeps every number (and
+        # gradient) finite, so that one bad point cannot poison the gradient of a batch.
+        ratio = PowerLaw(jnp.where(breakdown, -200.0, ratio.log_coeff), ratio.exponent)
+        # Plastic spots have no stiffness: only the first three regimes are integrated.
+        rows = slice(0, 3)
+        density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
+        ratio, lo, hi = ratio[rows], lower[rows], upper[rows]
+        if sign > 0:
+            part = series_correction(density, ratio, lo, hi, self.quadrature)
+            return closed_form + jnp.concatenate([part, jnp.zeros_like(part[:1])]), breakdown
+        corrections = paper_correction(density, ratio, lo, hi, self.quadrature)
+        # Stacked last, so that each regime stays its own elementwise chain (see `paper_correction`).
+        return jnp.stack([closed_form[i] + c for i, c in enumerate(corrections)] + [closed_form[3]]), breakdown
+
+    def real_area(self, log_a_l):
+        """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""
+        area_law = self.distribution(log_a_l) * PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D))
+        return area_law.integral(self.log_a_min, jnp.maximum(log_a_l, self.log_a_min))
+
+    def response(self, log_a_l, log_load):
+        stiffness, breakdown = self.regime_stiffness(log_a_l, log_load)
+        return JointResponse(self.regime_load(log_a_l), stiffness, self.real_area(log_a_l), breakdown)

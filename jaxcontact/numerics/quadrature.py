@@ -1,0 +1,108 @@
+"""Quadrature in log-area, and the quadrature choices a model takes as objects.
+
+Only the interaction stiffness needs it (every other integral of the model has a closed
+form). Integrands span many decades of `a`, so the variable is `t = ln a`, in which they are
+smooth and slowly varying.
+"""
+
+from __future__ import annotations
+
+import abc
+import functools
+from typing import ClassVar
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import quadax
+
+
+@functools.cache
+def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights on [-1, 1] (numpy's `leggauss`, computed once per node count)."""
+    return np.polynomial.legendre.leggauss(nodes)
+
+
+def integrate_log_area(integrand, log_lower, log_upper, nodes: int):
+    """`∫ g(t) dt` over `[log_lower, log_upper]` (elementwise over the bounds' shape).
+
+    **Arguments:**
+
+    - `integrand`: `g(t)`, the integrand with respect to `t = ln a` (that is, `a · h(a)` for
+      `∫ h(a) da`); called with `t` of shape `bounds.shape + (nodes,)`, it returns the same shape.
+    - `log_lower`, `log_upper`: bounds, of equal shape; an empty interval gives 0.
+    - `nodes`: number of Gauss–Legendre nodes per interval (static).
+    """
+    x, w = gauss_legendre(nodes)
+    half = 0.5 * (log_upper - log_lower)[..., None]
+    mid = 0.5 * (log_upper + log_lower)[..., None]
+    t = mid + half * jnp.asarray(x, dtype=half.dtype)
+    return jnp.sum(jnp.asarray(w, dtype=half.dtype) * integrand(t), axis=-1) * half[..., 0]
+
+
+class AbstractQuadrature(eqx.Module):
+    """How the interaction part of the stiffness (the one integral without a closed form) is done."""
+
+    name: eqx.AbstractClassVar[str]
+
+
+class PowerSeries(AbstractQuadrature):
+    """No nodes: the "paper" interaction's pole term summed to round-off (`pole_integral`).
+
+    Applies to `PaperInteraction` only (its integrand is `r/(1-r)`).
+    """
+
+    name: ClassVar[str] = "power-series"
+
+
+class AbstractRowQuadrature(AbstractQuadrature):
+    """A quadrature rule for any smooth integrand, applied row by row (one row per regime)."""
+
+    @abc.abstractmethod
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        """`∫ integrand(t, *row_args[i]) dt` over `[log_lower[i], log_upper[i]]`, one result per row.
+
+        **Arguments:**
+
+        - `integrand`: elementwise in `t` and in the row arguments (it broadcasts).
+        - `row_args`: tuple of arrays with one entry per row (the regime's coefficients).
+        - `log_lower`, `log_upper`: the rows' bounds; an empty interval gives 0.
+        """
+
+
+class GaussLegendre(AbstractRowQuadrature):
+    """`nodes` fixed Gauss–Legendre nodes per regime (static, 2 to 1024)."""
+
+    name: ClassVar[str] = "gauss-legendre"
+    nodes: int = eqx.field(static=True, default=16)
+
+    def __check_init__(self):
+        if isinstance(self.nodes, bool) or not isinstance(self.nodes, int) or not 2 <= self.nodes <= 1024:
+            raise ValueError(f"quadrature_nodes = {self.nodes!r} must be an integer in [2, 1024]")
+
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        expanded = tuple(a[..., None] for a in row_args)
+        return integrate_log_area(lambda t: integrand(t, *expanded), log_lower, log_upper, self.nodes)
+
+
+class Adaptive(AbstractRowQuadrature):
+    """quadax's adaptive Gauss–Kronrod (`quadgk`) to relative `tolerance` (static, in (0, 0.1))."""
+
+    name: ClassVar[str] = "adaptive"
+    tolerance: float = eqx.field(static=True, default=1e-10)
+
+    def __check_init__(self):
+        if not 0.0 < self.tolerance < 1e-1:
+            raise ValueError(f"quadrature_tolerance = {self.tolerance!r} must be in (0, 0.1)")
+
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        nonempty = log_upper > log_lower
+        upper = jnp.where(nonempty, log_upper, log_lower + 1.0)  # quadgk wants a proper interval
+
+        def one_row(lo, hi, *args):
+            value, _ = quadax.quadgk(
+                integrand, jnp.stack([lo, hi]), args=args, epsabs=0.0, epsrel=self.tolerance, max_ninter=100
+            )
+            return value
+
+        return jnp.where(nonempty, jnp.vectorize(one_row)(log_lower, upper, *row_args), 0.0)

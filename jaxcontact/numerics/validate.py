@@ -1,0 +1,88 @@
+"""Checks of configuration values that are known at construction time.
+
+Values that are JAX tracers (inside `jit`, `grad`, `vmap`) cannot be checked here; the model
+reports value-dependent failures per point through `Solution.status` instead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+
+def as_array(value):
+    """Numbers and arrays become JAX arrays (pytree leaves that `eqx.filter_grad`, `filter_jit`
+    and `filter_vmap` treat as parameters); tracers pass through.
+
+    A Python number stays weakly typed, so that it takes the working precision of the solve
+    (float32, or float64 under `jax_enable_x64`) instead of fixing one at construction.
+    """
+    if isinstance(value, bool):
+        raise ValueError(f"expected a number, got the boolean {value!r}")
+    if isinstance(value, jax.core.Tracer):
+        return value
+    if isinstance(value, (int, np.integer)):
+        value = float(value)
+    try:
+        array = jnp.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"expected a number or an array of numbers, got {value!r}") from exc
+    if not jnp.issubdtype(array.dtype, jnp.number) or jnp.issubdtype(array.dtype, jnp.complexfloating):
+        raise ValueError(f"expected a real number, got {value!r}")
+    return array if jnp.issubdtype(array.dtype, jnp.floating) else array.astype(float)
+
+
+def concrete(value) -> np.ndarray | None:
+    """The value as a float64 numpy array, or None while it is being traced."""
+    if isinstance(value, jax.core.Tracer):
+        return None
+    try:
+        return np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"expected a number, got {value!r}") from exc
+
+
+def _describe(values: np.ndarray) -> str:
+    if values.ndim == 0:
+        return f"{float(values):.6g}"
+    return f"{np.array2string(values, precision=6, threshold=6)}"
+
+
+def check_range(
+    name: str,
+    value,
+    low: float = -math.inf,
+    high: float = math.inf,
+    *,
+    low_open: bool = True,
+    high_open: bool = True,
+    meaning: str = "",
+) -> None:
+    """Raise `ValueError` unless every element of a concrete `value` lies in the interval."""
+    values = concrete(value)
+    if values is None:
+        return
+    ok = np.isfinite(values)
+    ok &= (values > low) if low_open else (values >= low)
+    ok &= (values < high) if high_open else (values <= high)
+    if not np.all(ok):
+        left = "(" if low_open else "["
+        right = ")" if high_open else "]"
+        interval = f"{left}{low:g}, {high:g}{right}"
+        what = f" ({meaning})" if meaning else ""
+        raise ValueError(f"{name}{what} = {_describe(values)} is outside its valid range {interval}")
+
+
+def check_choice(name: str, value, choices: tuple[str, ...]) -> None:
+    if value not in choices:
+        allowed = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"{name} = {value!r} is not one of {allowed}")
+
+
+def check_instance(name: str, value, kind: type) -> None:
+    """Raise `ValueError` unless `value` is a `kind` (a model's choice passed as an object)."""
+    if not isinstance(value, kind):
+        raise ValueError(f"{name} = {value!r} must be a {kind.__name__} (see jaxcontact.{kind.__name__})")

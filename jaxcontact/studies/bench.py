@@ -1,0 +1,271 @@
+"""`jaxcontact bench`: timings of the compiled model, each as a ratio measured in this run.
+
+Against the plain scipy implementation (`scipy_baseline`: quad + brentq, what a user would
+otherwise write): a 200-load curve, the gradient of a fitting loss (against finite differences
+of the baseline), and a full D/G fit (against `scipy.optimize.least_squares` on the baseline).
+Also: compile time, throughput over 1e5 loads with and without interaction, what each effect
+costs, and the persistent compilation cache of the CLI. Times are after compilation, best of
+several repeats; nothing here is asserted (timings are not tests).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy import optimize
+
+from ..core.loadcontrol import solve
+from ..core.scales import Scales
+from ..core.scene import Scene
+from .scipy_baseline import BaselineParameters, solve_curve
+
+TARGETS = {
+    "curve_speedup": 1000.0,
+    "gradient_over_forward": 5.0,
+    "fit_seconds": 1.0,
+    "points_per_s_no_interaction": 1e6,
+    "compile_seconds": 3.0,
+}
+
+
+def best_of(fn, repeats=5) -> float:
+    best = math.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(fn())
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def _arrays(scene: Scene) -> Scene:
+    return jax.tree.map(jnp.asarray, scene)
+
+
+def _baseline(scene: Scene, **changes) -> BaselineParameters:
+    s, m = scene.surface, scene.material
+    values = dict(
+        D=float(s.D),
+        G=float(s.G),
+        E=float(m.E),
+        nu=float(m.nu),
+        H=float(m.H),
+        area=float(scene.area),
+        l_min=float(s.l_min),
+        **scene.model.options(),
+    )
+    values.pop("quadrature", None)
+    values.setdefault("interaction", "none")
+    return BaselineParameters(**{**values, **changes})
+
+
+def time_scene(scene: Scene, loads) -> dict:
+    """Compile time and run time (s, best of 5) of `jax.jit(solve)` for this scene and these loads."""
+    run = jax.jit(solve)
+    scene, loads = _arrays(scene), jnp.asarray(loads)
+    t = time.perf_counter()
+    jax.block_until_ready(run(scene, loads))
+    first = time.perf_counter() - t
+    seconds = best_of(lambda: run(scene, loads))
+    return {"compile_s": max(first - seconds, 0.0), "run_s": seconds, "points_per_s": loads.size / seconds}
+
+
+def curve(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
+    """200 loads over F* = 1e-7 … 1e-4: scipy against `jax.jit(solve)`, interleaved.
+
+    Each of `rounds` rounds runs the scipy curve once and each compiled curve `repeats` times;
+    each side's time is its best over all rounds. A curve takes ~0.1 ms compiled, so its best of
+    many repeats is what the machine can do and the scheduler's noise is not. Interleaving puts
+    both sides in the same spells of the machine's speed: on a shared 2-core machine the same
+    compiled call drifts by up to 2x for tens of milliseconds at a time, so many short rounds
+    sample more spells than a few long ones. Three jaxcontact curves are timed: the outputs the
+    scipy baseline computes (a_l, K, A_r and status: like for like, the ratio the target is
+    about), the whole `Solution` (which also carries the regime shares the scene asks for, the
+    loads, E and A_a), and the stiffness alone (what a model that embeds K(F) keeps). XLA drops
+    whatever a jitted function does not return.
+    """
+    loads = jnp.asarray(np.geomspace(1e-7, 1e-4, 200) * float(Scales.of(scene).load))
+    arrays = _arrays(scene)
+
+    def baseline_outputs(s, F):
+        solution = solve(s, F)
+        return solution.a_l, solution.stiffness, solution.real_area, solution.status
+
+    runs = {
+        "jaxcontact_s": jax.jit(solve),
+        "jaxcontact_baseline_outputs_s": jax.jit(baseline_outputs),
+        "jaxcontact_stiffness_only_s": jax.jit(lambda s, F: solve(s, F).stiffness),
+    }
+    for run in runs.values():
+        jax.block_until_ready(run(arrays, loads))
+    best = dict.fromkeys(["scipy_s", *runs], math.inf)
+    for _ in range(rounds):
+        t = time.perf_counter()
+        solve_curve(_baseline(scene), np.asarray(loads))
+        best["scipy_s"] = min(best["scipy_s"], time.perf_counter() - t)
+        for name, run in runs.items():
+            best[name] = min(best[name], best_of(lambda: run(arrays, loads), repeats))
+    return {
+        "points": 200,
+        "rounds": rounds,
+        "repeats": repeats,
+        **best,
+        "speedup": best["scipy_s"] / best["jaxcontact_s"],
+        "speedup_baseline_outputs": best["scipy_s"] / best["jaxcontact_baseline_outputs_s"],
+        "speedup_stiffness_only": best["scipy_s"] / best["jaxcontact_stiffness_only_s"],
+    }
+
+
+def _data(scene: Scene, n=30):
+    loads = np.geomspace(1e-10, 1e-4, n) * float(Scales.of(scene).load)
+    return loads, np.asarray(solve(scene, loads).stiffness) * np.exp(0.05 * np.random.default_rng(0).standard_normal(n))
+
+
+def gradient(scene: Scene) -> dict:
+    """Loss = mean squared log-stiffness residual over 30 points, as a function of (D, ln G)."""
+    loads, K = _data(scene)
+    F, log_K = jnp.asarray(loads), jnp.log(jnp.asarray(K))
+    base = _arrays(scene)
+
+    def loss(theta):
+        s = eqx.tree_at(lambda sc: (sc.surface.D, sc.surface.G), base, (theta[0], jnp.exp(theta[1])))
+        r = jnp.log(solve(s, F).stiffness) - log_K
+        return jnp.mean(r * r)
+
+    theta = jnp.array([float(scene.surface.D) + 0.01, math.log(float(scene.surface.G)) + 0.1])
+    forward, value_and_grad = jax.jit(loss), jax.jit(jax.value_and_grad(loss))
+    jax.block_until_ready(forward(theta))
+    jax.block_until_ready(value_and_grad(theta))
+    forward_s = best_of(lambda: forward(theta))
+    grad_s = best_of(lambda: value_and_grad(theta))
+
+    def baseline_loss(th):
+        _, K_model, _, _ = solve_curve(_baseline(scene, D=th[0], G=math.exp(th[1])), loads)
+        return float(np.mean((np.log(K_model) - np.log(K)) ** 2))
+
+    t = time.perf_counter()
+    h = 1e-6
+    [baseline_loss(np.asarray(theta) + s * h * e) for e in np.eye(2) for s in (1, -1)]
+    baseline_loss(np.asarray(theta))
+    fd_s = time.perf_counter() - t
+    return {
+        "points": 30,
+        "forward_s": forward_s,
+        "value_and_grad_s": grad_s,
+        "gradient_over_forward": grad_s / forward_s,
+        "scipy_finite_difference_s": fd_s,
+        "speedup": fd_s / grad_s,
+    }
+
+
+def fit(scene: Scene) -> dict:
+    import fitting
+
+    loads, K = _data(scene)
+    start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (1.5, 1e-9))
+    fitting.fit(loads, K, start, method="lm")  # compile
+    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    t = time.perf_counter()
+    ours = fitting.fit(loads, K, start, method="lm")
+    multi_s = time.perf_counter() - t
+    t = time.perf_counter()
+    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    single_s = time.perf_counter() - t
+
+    def residuals(th):
+        _, K_model, _, _ = solve_curve(_baseline(scene, D=th[0], G=math.exp(th[1])), loads)
+        return np.log(np.where(np.isfinite(K_model), K_model, 1.0)) - np.log(K)
+
+    t = time.perf_counter()
+    ls = optimize.least_squares(
+        residuals, [1.5, math.log(1e-9)], bounds=([1.01, math.log(1e-15)], [1.99, math.log(1e-6)]), x_scale="jac"
+    )
+    scipy_s = time.perf_counter() - t
+    return {
+        "points": 30,
+        "jaxcontact_12_starts_s": multi_s,
+        "jaxcontact_1_start_s": single_s,
+        "scipy_least_squares_s": scipy_s,
+        "speedup_1_start": scipy_s / single_s,
+        "D_jaxcontact": ours.values["D"],
+        "D_scipy": float(ls.x[0]),
+    }
+
+
+def throughput(scene: Scene, n: int = 100_000) -> dict:
+    loads = np.geomspace(1e-7, 1e-4, n) * float(Scales.of(scene).load)
+    out = {}
+    interaction = scene.model.options().get("interaction", "none")
+    for label, choice in (("no_interaction", "none"), ("interaction_" + interaction, interaction)):
+        out[label] = time_scene(scene.with_options(interaction=choice, regime_shares=False), loads)
+    return out
+
+
+def effects_table(scene: Scene, n: int = 20_000) -> list[dict]:
+    """The same joint with each effect switched on and off: compile and run time of each variant."""
+    loads = np.geomspace(1e-7, 1e-4, n) * float(Scales.of(scene).load)
+    variants = [
+        ("no interaction, no regime shares", dict(interaction="none", regime_shares=False)),
+        ("no interaction", dict(interaction="none")),
+        ("interaction 'series'", dict(interaction="series")),
+        ("interaction 'paper'", dict(interaction="paper")),
+        ("interaction 'paper' + WK distribution", dict(interaction="paper", distribution="wk")),
+    ]
+    rows = []
+    for label, kw in variants:
+        variant = scene.with_options(**{"model": "xia2024", "distribution": "mb", "regime_shares": True, **kw})
+        rows.append({"variant": label, **time_scene(variant, loads)})
+    return rows
+
+
+def compilation_cache() -> dict:
+    """Wall time of `jaxcontact run` twice, with a fresh persistent cache: cold, then warm."""
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "JAXCONTACT_CACHE": cache}
+        times = []
+        for _ in range(2):
+            t = time.perf_counter()
+            subprocess.run(
+                [sys.executable, "-m", "jaxcontact.cli", "run", "--out", out, "--format", "json", "--no-progress"],
+                env=env,
+                check=True,
+                capture_output=True,
+            )
+            times.append(time.perf_counter() - t)
+        entries = sum(1 for _ in pathlib.Path(cache).rglob("*") if _.is_file())
+    return {"cold_s": times[0], "warm_s": times[1], "cache_entries": entries}
+
+
+def run_all(scene: Scene, progress=None) -> dict:
+    steps = [
+        ("curve", curve),
+        ("gradient", gradient),
+        ("fit", fit),
+        ("throughput", throughput),
+        ("effects", effects_table),
+        ("compilation_cache", lambda s: compilation_cache()),
+    ]
+    results = {
+        "device": str(jax.devices()[0]),
+        "devices": len(jax.devices()),
+        "async_dispatch": bool(jax.config.read("jax_cpu_enable_async_dispatch")),
+    }
+    # Compile times must be compilations, not reads of the CLI's persistent cache (the CLI's
+    # cache is timed separately, in its own processes, by `compilation_cache`).
+    enabled = jax.config.jax_enable_compilation_cache
+    jax.config.update("jax_enable_compilation_cache", False)
+    try:
+        for name, step in steps if progress is None else progress(steps):
+            results[name] = step(scene)
+    finally:
+        jax.config.update("jax_enable_compilation_cache", enabled)
+    return results

@@ -1,0 +1,51 @@
+"""The text report of `jaxcontact bench`: each measurement, its ratio against the scipy baseline
+measured in the same run, and the verdict against its target."""
+
+from __future__ import annotations
+
+
+def format_results(r: dict) -> str:
+    c, g, f, tp = r["curve"], r["gradient"], r["fit"], r["throughput"]
+    no_int = tp["no_interaction"]
+    with_int = next(v for k, v in tp.items() if k != "no_interaction")
+
+    def verdict(ok):
+        return "target met" if ok else "TARGET NOT MET"
+
+    lines = [
+        f"device: {r['device']} ({r['devices']} device(s)); float64; "
+        f"{'asynchronous' if r['async_dispatch'] else 'synchronous'} dispatch; after compilation, best of 5 "
+        f"(200-load curve: {c['rounds']} rounds of scipy once and each jaxcontact curve {c['repeats']} times, "
+        "interleaved; best of each)",
+        "",
+        f"200-load curve:       scipy {c['scipy_s']:.3f} s; jaxcontact, the same outputs (a_l, K, A_r, status) "
+        f"{1e3 * c['jaxcontact_baseline_outputs_s']:.3f} ms: {c['speedup_baseline_outputs']:.0f}x  "
+        f"(target >= 1000x: {verdict(c['speedup_baseline_outputs'] >= 1000)})",
+        f"                      whole Solution (+ regime shares, loads, E, A_a) {1e3 * c['jaxcontact_s']:.3f} ms: "
+        f"{c['speedup']:.0f}x; stiffness only {1e3 * c['jaxcontact_stiffness_only_s']:.3f} ms: "
+        f"{c['speedup_stiffness_only']:.0f}x",
+        f"loss gradient (30 pt): value+grad {1e3 * g['value_and_grad_s']:.2f} ms = "
+        f"{g['gradient_over_forward']:.2f}x the forward {1e3 * g['forward_s']:.2f} ms "
+        f"(target <= 5x: {verdict(g['gradient_over_forward'] <= 5)}); "
+        f"scipy finite differences {g['scipy_finite_difference_s']:.3f} s: {g['speedup']:.0f}x",
+        f"D/G fit (30 pt):      jaxcontact {f['jaxcontact_1_start_s']:.3f} s (1 start), "
+        f"{f['jaxcontact_12_starts_s']:.3f} s "
+        f"(12 starts, vmapped); scipy least_squares {f['scipy_least_squares_s']:.2f} s: {f['speedup_1_start']:.0f}x "
+        f"(target < 1 s: {verdict(f['jaxcontact_12_starts_s'] < 1)})",
+        f"throughput, 1e5 loads: {no_int['points_per_s']:.3g} points/s without interaction "
+        f"(target >= 1e6: {verdict(no_int['points_per_s'] >= 1e6)}), {with_int['points_per_s']:.3g} with",
+        f"compile time:          {no_int['compile_s']:.2f} s without interaction, {with_int['compile_s']:.2f} s with "
+        f"(target < 3 s: {verdict(max(no_int['compile_s'], with_int['compile_s']) < 3)})",
+        f"CLI persistent compilation cache: `jaxcontact run` cold {r['compilation_cache']['cold_s']:.2f} s, warm "
+        f"{r['compilation_cache']['warm_s']:.2f} s",
+        "",
+        "what each effect costs (20000 loads):",
+        f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}",
+    ]
+    base = r["effects"][0]["run_s"]
+    for e in r["effects"]:
+        lines.append(
+            f"{e['variant']:40s} {e['compile_s']:11.2f} {1e3 * e['run_s']:9.3f} {e['run_s'] / base:9.2f}x "
+            f"{e['points_per_s']:10.3g}"
+        )
+    return "\n".join(lines)

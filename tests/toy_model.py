@@ -1,0 +1,51 @@
+"""A toy contact model, to show that a new model is one file plus one registry line.
+
+Every contact spot is elastic: it carries the load of Eq. (5) and has the Hertz stiffness
+`k = 2 E sqrt(a/π)`, over the Majumdar–Bhushan distribution cut at `a_min` (no plastic regime,
+no interaction). Every total is a closed form. `tests/test_contract.py` registers it with
+`jaxcontact.register_model(AllElastic)` and puts it through the contract every model passes.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from jaxcontact import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from jaxcontact.numerics.powerlaw import PowerLaw
+from jaxcontact.physics.asperity import regime_load_laws
+from jaxcontact.physics.distribution import size_distribution
+
+
+class AllElastic(AbstractLargestSpotModel):
+    """Every spot elastic (Eq. 5 load, Hertz stiffness); one regime, "e"."""
+
+    name: ClassVar[str] = "toy-all-elastic"
+    regimes: ClassVar[tuple[str, ...]] = ("e",)
+
+    def joint(self, s):
+        laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        return AllElasticJoint(D=s.D, log_a_min=s.log_a_min, load_law=laws[0])
+
+
+class AllElasticJoint(AbstractJoint):
+    D: Float[Array, ""]
+    log_a_min: Float[Array, ""]
+    load_law: PowerLaw
+
+    def kinks(self):
+        return jnp.zeros((0,), self.log_a_min.dtype)
+
+    def regime_load(self, log_a_l):
+        n = size_distribution(self.D, log_a_l, 0.0)
+        return (self.load_law * n).integral(self.log_a_min, log_a_l)[None]
+
+    def response(self, log_a_l, log_load):
+        n = size_distribution(self.D, log_a_l, 0.0)
+        hertz = PowerLaw(jnp.full_like(self.D, math.log(2.0 / math.sqrt(math.pi))), jnp.full_like(self.D, 0.5))
+        stiffness = (hertz * n).integral(self.log_a_min, log_a_l)[None]
+        area = (PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D)) * n).integral(self.log_a_min, log_a_l)
+        return JointResponse(self.regime_load(log_a_l), stiffness, area, jnp.array(False))
