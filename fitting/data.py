@@ -9,18 +9,18 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import io
 import math
 import pathlib
 
 import numpy as np
 
 import jaxcontact as jc
+from jaxcontact import InputError
 
 COLUMN_SETS = (("load_N", "stiffness_N_per_m"), ("F_star", "K_star"))
 
 
-class DataError(ValueError):
+class DataError(InputError):
     """A curve file that cannot be used; the message says where and why."""
 
 
@@ -34,28 +34,36 @@ class Curve:
 
 
 def parse_curve(text: str, scene: jc.Scene, source: str = "<text>") -> Curve:
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
+    """A curve from CSV text; errors name the file's own line numbers (comments and blank lines count)."""
+    numbered = [
+        (number, line)
+        for number, line in enumerate(text.lstrip("\ufeff").splitlines(), start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not numbered:
         raise DataError(f"{source}: no header row and no data")
-    reader = csv.DictReader(io.StringIO("\n".join(lines)))
-    header = [h.strip() for h in (reader.fieldnames or [])]
-    reader.fieldnames = header
+    (_, header_line), *data = numbered
+    header = [h.strip() for h in next(csv.reader([header_line]))]
     columns = next((c for c in COLUMN_SETS if all(k in header for k in c)), None)
     if columns is None:
         raise DataError(
             f"{source}: header {','.join(header)!r} lacks the columns 'load_N,stiffness_N_per_m' (or 'F_star,K_star')"
         )
+    where = [header.index(k) for k in columns]
     x, y = [], []
-    for row_number, row in enumerate(reader, start=2):
+    for number, line in data:
+        fields = next(csv.reader([line]))
+        if len(fields) != len(header):
+            raise DataError(f"{source}: line {number} has {len(fields)} fields, the header has {len(header)}")
         pair = []
-        for key in columns:
-            raw = (row.get(key) or "").strip()
+        for key, i in zip(columns, where):
+            raw = fields[i].strip()
             try:
                 value = float(raw)
             except ValueError:
-                raise DataError(f"{source}: row {row_number}, column {key}: {raw!r} is not a number") from None
+                raise DataError(f"{source}: line {number}, column {key}: {raw!r} is not a number") from None
             if not (math.isfinite(value) and value > 0):
-                raise DataError(f"{source}: row {row_number}, column {key}: {raw} must be a positive finite number")
+                raise DataError(f"{source}: line {number}, column {key}: {raw} must be a positive finite number")
             pair.append(value)
         x.append(pair[0])
         y.append(pair[1])
@@ -70,6 +78,8 @@ def parse_curve(text: str, scene: jc.Scene, source: str = "<text>") -> Curve:
 
 def load_curve(path, scene: jc.Scene) -> Curve:
     path = pathlib.Path(path)
+    if path.is_dir():
+        raise DataError(f"data file {str(path)!r} is a directory, not a CSV file")
     if not path.is_file():
         raise DataError(f"data file {str(path)!r} does not exist")
     return parse_curve(path.read_text(), scene, str(path))

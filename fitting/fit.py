@@ -26,6 +26,7 @@ import optax
 import optimistix as optx
 
 import jaxcontact as jc
+from jaxcontact import InputError
 from jaxcontact.core.loadcontrol import prepare
 
 from .parameters import FitParameter, resolve, with_stat
@@ -225,17 +226,24 @@ def fit(
     """
     t0 = time.perf_counter()
     if method not in METHODS:
-        raise ValueError(f"method = {method!r} is not one of {', '.join(map(repr, METHODS))}")
+        raise InputError(f"method = {method!r} is not one of {', '.join(map(repr, METHODS))}")
+    if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
+        raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)
     loads = np.asarray(loads, dtype=float).reshape(-1)
     stiffness = np.asarray(stiffness, dtype=float).reshape(-1)
     if loads.shape != stiffness.shape:
-        raise ValueError(f"loads ({loads.size}) and stiffness ({stiffness.size}) differ in length")
+        raise InputError(f"loads ({loads.size}) and stiffness ({stiffness.size}) differ in length")
     if loads.size <= len(fitted):
-        raise ValueError(f"{loads.size} data points cannot determine {len(fitted)} parameters")
+        raise InputError(f"{loads.size} data points cannot determine {len(fitted)} parameters")
+    if np.unique(loads).size <= len(fitted):
+        raise InputError(
+            f"loads: {np.unique(loads).size} distinct values among {loads.size} points cannot determine "
+            f"{len(fitted)} parameters (a curve needs at least {len(fitted) + 1} different loads)"
+        )
     for name, values in (("loads", loads), ("stiffness", stiffness)):
         if not np.all(np.isfinite(values) & (values > 0)):
-            raise ValueError(f"{name} must be positive and finite (valid range (0, inf))")
+            raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
     dtype = jnp.result_type(1.0)
     if tol is None:
         tol = DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6
@@ -256,7 +264,7 @@ def fit(
     stat_hat = stat_from_u(fitted, u_all[best])
     result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
     success = bool(converged[best]) and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
-    warnings = list(result["warnings"]) + rival_optima(fitted, u_all, losses, best, loads.size, result)
+    warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
     if not bool(converged[best]):
         warnings.insert(0, f"the best start did not converge in {max_iter} iterations")
     return FitResult(

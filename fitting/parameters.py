@@ -17,6 +17,7 @@ import jax
 import jax.numpy as jnp
 
 import jaxcontact as jc
+from jaxcontact import InputError
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,12 +67,12 @@ def resolve(names) -> tuple[FitParameter, ...]:
         names = [n.strip() for n in names.split(",") if n.strip()]
     names = list(names)
     if not names:
-        raise ValueError("params must name at least one parameter")
+        raise InputError("params must name at least one parameter")
     unknown = [n for n in names if n not in PARAMETERS]
     if unknown:
-        raise ValueError(f"params: {', '.join(map(repr, unknown))} cannot be fitted (allowed: {', '.join(PARAMETERS)})")
+        raise InputError(f"params: {', '.join(map(repr, unknown))} cannot be fitted (allowed: {', '.join(PARAMETERS)})")
     if len(set(names)) != len(names):
-        raise ValueError(f"params = {names} names a parameter twice")
+        raise InputError(f"params = {names} names a parameter twice")
     return tuple(PARAMETERS[n] for n in names)
 
 

@@ -2,7 +2,8 @@
 
 `r_i = ln K_model(F_i; θ) - ln K_i`. Data points that the model cannot evaluate at a trial θ
 (interaction breakdown, load out of range) contribute a constant residual `FLAGGED_RESIDUAL` with
-no gradient, so that no start can win by pushing points out of the model.
+no gradient, so that no start can win by pushing points out of the model; points where it gives
+K = 0 (every spot plastic) contribute `ZERO_STIFFNESS_RESIDUAL`, worse than any real misfit.
 """
 
 from __future__ import annotations
@@ -16,6 +17,10 @@ import jaxcontact as jc
 from .parameters import with_stat
 
 FLAGGED_RESIDUAL = 1.0  # a miss by a factor e in stiffness
+# A valid point where the model says K = 0 (every spot plastic) against a measured K > 0 misses by
+# an infinite factor; this stands for it, worse than any misfit a model of the data could have, so
+# that no start wins by making the stiffness vanish.
+ZERO_STIFFNESS_RESIDUAL = 50.0
 
 
 def log_residuals(stat, scene, params, loads, log_stiffness):
@@ -28,7 +33,8 @@ def residuals_and_status(stat, scene, params, loads, log_stiffness):
     sol = jc.solve(with_stat(scene, params, stat), loads)
     ok = sol.ok & (sol.stiffness > 0)
     K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
-    return jnp.where(ok, jnp.log(K) - log_stiffness, FLAGGED_RESIDUAL), ok, sol.status
+    missed = jnp.where(sol.fully_plastic, ZERO_STIFFNESS_RESIDUAL, FLAGGED_RESIDUAL)
+    return jnp.where(ok, jnp.log(K) - log_stiffness, missed), ok, sol.status
 
 
 def stat_from_u(params, u):

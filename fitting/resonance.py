@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 import jaxcontact as jc
+from jaxcontact import InputError
 
 from .fit import FitResult, fit
 
@@ -24,8 +25,8 @@ def fit_resonance(preloads, frequencies, mass: float, scene: jc.Scene, params=("
     **Returns:** a `FitResult` (its residuals are in ln K = 2 ln f + const).
     """
     if not (isinstance(mass, (int, float)) and math.isfinite(mass) and mass > 0):
-        raise ValueError(f"mass = {mass!r} kg must be positive and finite (valid range (0, inf))")
+        raise InputError(f"mass = {mass!r} kg must be positive and finite (valid range (0, inf))")
     frequencies = np.asarray(frequencies, dtype=float)
     if not np.all(np.isfinite(frequencies) & (frequencies > 0)):
-        raise ValueError("frequencies must be positive and finite (valid range (0, inf) Hz)")
+        raise InputError("frequencies must be positive and finite (valid range (0, inf) Hz)")
     return fit(preloads, mass * (2 * math.pi * frequencies) ** 2, scene, params=params, **kw)

@@ -18,28 +18,46 @@ import jaxcontact as jc
 from .parameters import FitParameter
 from .residuals import residuals_and_jacobian, stat_from_u
 
+# Optima closer than this fraction of every parameter's search range (statistical coordinates) are one.
+_SAME_OPTIMUM = 1e-4
 
-def rival_optima(params, u_all, losses, best, n_points, result) -> list[str]:
+
+def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
     """Warn when another start ended at a clearly distinct optimum that fits almost as well.
 
     A local Gauss–Newton interval cannot describe a bimodal misfit; this model has such cases
     (e.g. a second (D, G) with a_c near the cutoff when the curve stays above F* ≈ 1e-9).
-    Distinct: Mahalanobis distance > 5 under the covariance; almost as well: Δχ² < 9.
+    Distinct: Mahalanobis distance > 5 under the covariance, and apart by more than `_SAME_OPTIMUM`
+    of a search range; almost as well: Δχ² < 9, both misfits summed over the points valid at the
+    best optimum (the constant residuals of flagged points are no measure of fit).
     """
     covariance = result["covariance"]
     if not np.all(np.isfinite(covariance)):
         return []
-    rss = 2.0 * n_points * np.asarray(losses)
-    s2 = rss[best] / max(result["n_used"] - len(params), 1)
+    used = np.isfinite(result["residuals"])
+    padded_loads, log_stiffness, _ = data
+
+    def rss_at(stat):
+        r = np.asarray(residuals_and_jacobian(stat, scene, params, padded_loads, log_stiffness)[0])
+        return float(np.sum(r[: used.size][used] ** 2))
+
     stats_all = np.asarray(jax.vmap(lambda u: stat_from_u(params, u))(u_all))
+    rss_best = float(np.sum(result["residuals"][used] ** 2))
+    s2 = rss_best / max(result["n_used"] - len(params), 1)
     precision = np.linalg.pinv(covariance)
+    ranges = np.ptp(np.array([p.stat_bounds for p in params]), axis=1)
     rivals = []
-    for k in range(len(losses)):
+    for k in range(len(u_all)):
         delta = stats_all[k] - stats_all[best]
-        if k == best or not np.isfinite(rss[k]) or float(delta @ precision @ delta) <= 25.0:
+        if k == best or not np.all(np.isfinite(delta)) or float(delta @ precision @ delta) <= 25.0:
             continue
+        # Distinct in practice too: a vanishing covariance (a noiseless curve) makes any two starts
+        # that met at the same optimum "distinct" by Mahalanobis distance alone.
+        if not np.any(np.abs(delta) > _SAME_OPTIMUM * ranges):
+            continue
+        rss = rss_at(stats_all[k])
         # An exact fit (s2 = 0) makes any worse minimum infinitely worse, and another exact one equal.
-        chi2 = (rss[k] - rss[best]) / s2 if s2 > 0 else (0.0 if rss[k] <= rss[best] else math.inf)
+        chi2 = (rss - rss_best) / s2 if s2 > 0 else (0.0 if rss <= rss_best else math.inf)
         if chi2 < 9.0:
             rivals.append((chi2, k))
     if not rivals:
@@ -72,7 +90,8 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
     flagged = np.flatnonzero(~ok)
     if flagged.size:
         status = status[flagged]
-        listed = ", ".join(f"{loads[i]:.4g} N ({jc.status_message(s)})" for i, s in zip(flagged[:5], status[:5]))
+        reasons = [jc.status_message(s) if s else "K = 0: every spot plastic" for s in status[:5]]
+        listed = ", ".join(f"{loads[i]:.4g} N ({why})" for i, why in zip(flagged[:5], reasons))
         warnings.append(
             f"{flagged.size} of {loads.size} points are outside the model at the optimum and were "
             f"left out of the statistics: {listed}{' …' if flagged.size > 5 else ''}"
@@ -122,6 +141,9 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
                 )
     if condition > 1e8:
         warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
+    misfit = misfit_warning(np.log(loads[ok]), np.asarray(log_stiffness)[: loads.size][ok], r_used)
+    if misfit:
+        warnings.append(misfit)
     residuals = np.where(ok, r, np.nan)
     return dict(
         values=values,
@@ -134,4 +156,42 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         flagged=flagged,
         residuals=residuals,
         n_used=n,
+    )
+
+
+# Below this rms (ln units, ~2 %) a misfit is too small to call the model wrong, whatever the data's scatter.
+_NEGLIGIBLE_MISFIT = 0.02
+
+
+def point_scatter(x, y) -> float:
+    """The noise σ of `y` from the data alone: each point's deviation from the straight line
+    through its two neighbours in `x` (a smooth curve is locally straight), scaled by what that
+    deviation's variance is for independent noise, robustly (median, not mean)."""
+    order = np.argsort(x)
+    x, y = np.asarray(x)[order], np.asarray(y)[order]
+    x0, x1, x2, y0, y1, y2 = x[:-2], x[1:-1], x[2:], y[:-2], y[1:-1], y[2:]
+    span = x2 - x0
+    keep = span > 0
+    if not keep.any():
+        return math.nan
+    w0, w2 = (x2 - x1)[keep] / span[keep], (x1 - x0)[keep] / span[keep]
+    d = y1[keep] - (w0 * y0[keep] + w2 * y2[keep])
+    # For independent noise of variance σ², d has variance σ² (1 + w0² + w2²); the median of χ²₁ is 0.4549.
+    return float(np.sqrt(np.median(d * d / (1 + w0 * w0 + w2 * w2)) / 0.4549))
+
+
+def misfit_warning(log_loads, log_stiffness, residuals) -> str | None:
+    """A warning when the fit misses the data by far more than the data scatter about themselves:
+    then the model does not describe them (wrong units, another model, another effect)."""
+    if residuals.size < 3:
+        return None
+    rms = float(np.sqrt(np.mean(residuals * residuals)))
+    scatter = point_scatter(log_loads, log_stiffness)
+    if rms <= _NEGLIGIBLE_MISFIT or not (rms > 3 * scatter):
+        return None
+    return (
+        f"the rms misfit ({100 * rms:.3g} % in K) is {f'{rms / scatter:.3g}x' if scatter > 0 else 'far above'} the "
+        "data's own point-to-point scatter "
+        f"({100 * scatter:.3g} %): the model does not describe these data (loads or stiffness in other units? "
+        "another model? an effect the model lacks?); the values and intervals above are not to be trusted"
     )

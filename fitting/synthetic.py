@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 import jaxcontact as jc
+from jaxcontact import InputError
 
 
 def synthetic_curve(scene: jc.Scene, F_star, noise: float = 0.05, seed: int = 0):
@@ -20,7 +21,7 @@ def synthetic_curve(scene: jc.Scene, F_star, noise: float = 0.05, seed: int = 0)
     sol = jc.solve(scene, loads)
     if np.any(np.asarray(sol.status) != 0):
         bad = [f"{F:.3g} N ({jc.status_message(s)})" for F, s in zip(loads, np.asarray(sol.status)) if s]
-        raise ValueError(f"the model flags loads of the synthetic curve: {', '.join(bad[:5])}")
+        raise InputError(f"the model flags loads of the synthetic curve: {', '.join(bad[:5])}")
     rng = np.random.default_rng(seed)
     return loads, np.asarray(sol.stiffness) * np.exp(noise * rng.standard_normal(loads.size))
 

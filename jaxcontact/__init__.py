@@ -23,6 +23,7 @@ from .models.base import AbstractContactModel, AbstractJoint, AbstractLargestSpo
 from .models.jzz2010 import JZZ2010
 from .models.xia2024 import Xia2024
 from .numerics.quadrature import AbstractQuadrature, Adaptive, GaussLegendre, PowerSeries
+from .numerics.validate import InputError
 from .physics.distribution import AbstractDistribution, MajumdarBhushan, WangKomvopoulos, wang_komvopoulos_psi
 from .physics.interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction
 from .registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, build_model, register_model
@@ -32,6 +33,7 @@ __all__ = [
     "Material",
     "Scene",
     "Solution",
+    "InputError",
     "Status",
     "status_message",
     "Scales",

@@ -13,7 +13,7 @@ from .models.base import AbstractContactModel
 from .models.jzz2010 import JZZ2010
 from .models.xia2024 import Xia2024
 from .numerics.quadrature import Adaptive, GaussLegendre, PowerSeries
-from .numerics.validate import check_choice
+from .numerics.validate import InputError, check_choice
 from .physics.distribution import MajumdarBhushan, WangKomvopoulos
 from .physics.interaction import NoInteraction, PaperInteraction, SeriesInteraction
 
@@ -32,7 +32,7 @@ QUADRATURES = {cls.name: cls for cls in (PowerSeries, GaussLegendre, Adaptive)}
 def register_model(cls: type[AbstractContactModel]) -> type[AbstractContactModel]:
     """Make a model known by its `name` to scene files and `Scene(model="...")`; returns `cls`."""
     if not (isinstance(cls, type) and issubclass(cls, AbstractContactModel)):
-        raise ValueError(f"register_model needs a subclass of AbstractContactModel, got {cls!r}")
+        raise InputError(f"register_model needs a subclass of AbstractContactModel, got {cls!r}")
     MODELS[cls.name] = cls
     return cls
 
@@ -75,7 +75,7 @@ def build_model(
     }
     if isinstance(model, AbstractContactModel):
         if given:
-            raise ValueError(f"{', '.join(given)} given beside the model object {model!r}: pass them to the model")
+            raise InputError(f"{', '.join(given)} given beside the model object {model!r}: pass them to the model")
         return model
     check_choice("model", model, tuple(MODELS))
     cls = MODELS[model]
@@ -84,7 +84,7 @@ def build_model(
     nodes = GaussLegendre(nodes=quadrature_nodes) if quadrature_nodes is not None else None
     adaptive = Adaptive(tolerance=quadrature_tolerance) if quadrature_tolerance is not None else None
     if "interaction" not in fields and interaction not in (None, "none"):
-        raise ValueError(
+        raise InputError(
             f"interaction = {interaction!r} applies to models with interaction only; model "
             f"{model!r} has no interaction (use 'none' or leave it out)"
         )
@@ -102,7 +102,7 @@ def build_model(
         options["quadrature"] = chosen
     unknown = [k for k in options if k not in fields]
     if unknown:
-        raise ValueError(f"model {model!r} takes no {unknown[0]}")
+        raise InputError(f"model {model!r} takes no {unknown[0]}")
     built = cls(**options)
     if (
         "quadrature" in fields

@@ -42,17 +42,18 @@ def test_monotone_in_load(table1_scene):
 
 
 def test_gradients_match_finite_differences(table1_scene):
+    # The scene is an argument, as equinox passes modules: its arrays are traced, not constants.
     @jax.jit
-    def delta(theta):
-        scene = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), table1_scene, (theta[0], theta[1]))
+    def delta(theta, scene):
+        scene = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (theta[0], theta[1]))
         return jc.approach(scene, jnp.array([2.2, 2200.0]), F0).approach
 
     theta = jnp.array([TABLE1["D"], TABLE1["G"]])
-    jac = jax.jacrev(delta)(theta)
+    jac = jax.jacrev(delta)(theta, table1_scene)
     # Relative steps large enough that the ODE tolerance (1e-10 of δ) is not what is measured.
     for j, step in enumerate((1e-5, 1e-4)):
         e = jnp.zeros(2).at[j].set(step * theta[j])
-        fd = (delta(theta + e) - delta(theta - e)) / (2 * e[j])
+        fd = (delta(theta + e, table1_scene) - delta(theta - e, table1_scene)) / (2 * e[j])
         np.testing.assert_allclose(jac[:, j], fd, rtol=1e-5, err_msg="DG"[j])
 
 

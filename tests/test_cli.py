@@ -137,8 +137,20 @@ def test_console_script_reports_bad_value_without_traceback(tmp_path):
     )
 
 
-def test_figures(tmp_path, capsys):
+def test_figures(tmp_path, capsys, monkeypatch):
+    from jaxcontact.studies import figures
+
+    drawn = []
+    save = figures.save_figure
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path: drawn.append(fig) or save(fig, path))
     assert main(["figures", "--out", str(tmp_path), "--format", "json", "--no-progress"]) == 0
+    for fig in drawn:
+        ax = fig.axes[0]
+        # Every figure states its conditions, and its curves differ in line style and marker (print).
+        assert "l_min" in ax.get_title()
+        curves = [line for line in ax.lines if line.get_label() and not line.get_label().startswith("default")]
+        looks = {(str(line.get_linestyle()), line.get_marker()) for line in curves}
+        assert len(looks) == len(curves), ax.get_title()
     files = json.loads(capsys.readouterr().out)["files"]
     names = sorted(p.split("/")[-1] for p in files)
     assert names == sorted(
@@ -241,3 +253,114 @@ def test_flagged_loads_are_marked_on_the_load_axis_not_drawn_as_values(tmp_path,
     np.testing.assert_allclose(values.get_ydata(), np.asarray(solution.stiffness_star)[:2])
     assert marks.get_transform() == ax.get_xaxis_transform()
     np.testing.assert_allclose(marks.get_xdata(), np.asarray(solution.load_star)[2:])
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"jaxcontact {jc.__version__}"
+
+
+def test_an_internal_error_is_not_reported_as_a_user_mistake(tmp_path, capsys, monkeypatch):
+    """A bug (here a numpy broadcasting error inside the run) says so, with its traceback; exit 70."""
+    from jaxcontact.cli import report
+
+    def broken(*args, **kwargs):
+        raise ValueError("operands could not be broadcast together with shapes (4097,) (2,)")
+
+    monkeypatch.setattr(report, "solution_rows", broken)
+    assert main(["run", "--out", str(tmp_path), "--no-progress"]) == 70
+    err = capsys.readouterr().err
+    assert "Traceback" in err
+    assert "internal error (a bug in jaxcontact, not in your input)" in err
+
+
+def test_bench_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
+    """`bench --out` leaves the report (text and JSON, with the scene) where it was asked to."""
+    from jaxcontact.studies import bench, bench_report
+
+    monkeypatch.setattr(bench, "run_all", lambda scene, progress=None: {"curve": {"speedup": 1234.0}})
+    monkeypatch.setattr(bench_report, "format_results", lambda results: "200-load curve: 1234x")
+    assert main(["bench", "--out", str(tmp_path), "--no-progress"]) == 0
+    capsys.readouterr()
+    assert (tmp_path / "bench.txt").read_text().splitlines()[1] == "200-load curve: 1234x"
+    saved = json.loads((tmp_path / "bench.json").read_text())
+    assert saved["curve"]["speedup"] == 1234.0
+    assert saved["scene"]["parameters_SI"]["D"] == TABLE1["D"]
+
+
+def test_approach_refuses_a_preload_outside_the_model(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    text = (ROOT / "data" / "scenes" / "table1_dynamics.toml").read_text()
+    scene.write_text(
+        text.replace("[approach]\n", "[approach]\nreference_load = 1e9\n", 1).replace("reference_load = 220.0", "", 1)
+    )
+    assert main(["approach", str(scene), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == (
+        "jaxcontact approach: error: approach.reference_load = 1e+09 N is outside the model (load_out_of_range): "
+        "choose a preload where the stiffness is valid (see jaxcontact run on this scene)"
+    )
+
+
+def test_the_fit_figure_shows_the_values_their_intervals_and_the_residuals():
+    from types import SimpleNamespace
+
+    from jaxcontact.cli.plots import fit_figure
+
+    loads = np.geomspace(1.0, 100.0, 5)
+    result = SimpleNamespace(
+        params=("D", "G"),
+        values={"D": 1.40475, "G": 1.98e-10},
+        ci95={"D": (1.40208, 1.40742), "G": (1.66e-10, 2.35e-10)},
+        residuals=np.array([0.01, -0.02, np.nan, 0.03, -0.01]),
+        method="lm",
+    )
+    fig = fit_figure(result, loads, 1e8 * loads, loads, 1e8 * loads)
+    top, bottom = fig.axes
+    legend = [t.get_text() for t in top.get_legend().get_texts()]
+    assert legend[1] == "fit (95 % CI): D = 1.405 [1.402, 1.407]; G = 1.98e-10 [1.66e-10, 2.35e-10] m"
+    residual_points = bottom.lines[0]
+    np.testing.assert_allclose(residual_points.get_ydata(), [0.01, -0.02, 0.03, -0.01])
+
+
+def test_values_in_the_wrong_unit_are_warned_about(tmp_path, capsys):
+    """E and H typed in GPa, the area in mm²: the run goes on, and says what looks like a unit mistake."""
+    scene = tmp_path / "gpa.toml"
+    scene.write_text(
+        "[surface]\nD = 1.4058\nG = 2.2826e-10\n[material]\nE = 220\nnu = 0.25\nH = 100\n[joint]\narea = 100\n"
+        "[loads]\nvalues = [1e-3]\n"
+    )
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-progress"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err == [
+        "jaxcontact run: warning: E = 220 Pa is far outside what engineering surfaces have (1e+08–2e+12 Pa): "
+        "given in GPa or MPa instead of Pa? The model runs with it as it is.",
+        "jaxcontact run: warning: H = 100 Pa is far outside what engineering surfaces have (1e+07–1e+11 Pa): "
+        "given in GPa or MPa instead of Pa? The model runs with it as it is.",
+        "jaxcontact run: warning: area = 100 m² is far outside what engineering surfaces have (1e-10–1 m²): "
+        "given in mm² instead of m²? The model runs with it as it is.",
+    ]
+
+
+def test_the_table_says_why_a_stiffness_is_zero():
+    from jaxcontact.cli.report import format_table
+
+    row = dict(F_N=1.0, F_star=1e-6, a_l_m2=1e-10, K_N_per_m=0.0, K_star=0.0, status="ok", fully_plastic=True)
+    assert format_table([row]).splitlines()[1].endswith("ok (K = 0: every spot plastic)")
+
+
+def test_run_with_more_loads_than_one_chunk(tmp_path, capsys):
+    """4097 loads: two chunks of 4096, the second padded; every row is there and right."""
+    scene = tmp_path / "many.toml"
+    scene.write_text(
+        "[surface]\nD = 1.4058\nG = 2.2826e-10\n[material]\nE = 220e9\nnu = 0.25\nH = 100e9\n[joint]\narea = 1e-4\n"
+        '[effects]\nregime_shares = false\n[loads]\nunit = "F_star"\nrange = [1e-7, 1e-4]\ncount = 4097\n'
+    )
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-progress", "--format", "json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert len(rows) == 4097
+    F = np.array([r["F_N"] for r in rows])
+    K = np.asarray(jc.solve(make_scene(**TABLE1), F[[0, 4095, 4096]]).stiffness)
+    np.testing.assert_allclose([rows[i]["K_N_per_m"] for i in (0, 4095, 4096)], K, rtol=1e-12)

@@ -180,8 +180,11 @@ def test_bad_arguments(table1, kw, message):
     "text, message",
     [
         ("load,K\n1,2\n", "lacks the columns 'load_N,stiffness_N_per_m'"),
-        ("load_N,stiffness_N_per_m\n1,2\n3,x\n5,6\n", "row 3, column stiffness_N_per_m: 'x' is not a number"),
-        ("load_N,stiffness_N_per_m\n1,2\n-3,4\n5,6\n", "row 3, column load_N: -3 must be a positive finite number"),
+        ("load_N,stiffness_N_per_m\n1,2\n3,x\n5,6\n", "line 3, column stiffness_N_per_m: 'x' is not a number"),
+        ("load_N,stiffness_N_per_m\n1,2\n-3,4\n5,6\n", "line 3, column load_N: -3 must be a positive finite number"),
+        # The file's own line numbers: comments and blank lines count.
+        ("# a\n# b\nload_N,stiffness_N_per_m\n\n1,2\n3,4\n5,6\n7,8\nnan,9\n", "line 9, column load_N: nan must be"),
+        ("load_N,stiffness_N_per_m\n1,2\n3,4,5\n5,6\n", "line 3 has 3 fields, the header has 2"),
         ("load_N,stiffness_N_per_m\n1,2\n", "1 data rows; a fit needs at least 3"),
         ("# only a comment\n", "no header row"),
     ],
@@ -189,6 +192,16 @@ def test_bad_arguments(table1, kw, message):
 def test_csv_errors(table1, text, message):
     with pytest.raises(fitting.DataError, match=message):
         fitting.parse_curve(text, table1, "c.csv")
+
+
+def test_a_byte_order_mark_is_accepted(table1):
+    curve = fitting.parse_curve("\ufeffload_N,stiffness_N_per_m\n1,2\n3,4\n5,6\n", table1, "excel.csv")
+    np.testing.assert_array_equal(curve.loads, [1.0, 3.0, 5.0])
+
+
+def test_a_directory_is_not_called_missing(table1, tmp_path):
+    with pytest.raises(fitting.DataError, match="is a directory"):
+        fitting.load_curve(tmp_path, table1)
 
 
 def test_dimensionless_columns(table1):
@@ -209,3 +222,52 @@ def test_cli_fit(tmp_path, capsys, monkeypatch):
     assert payload["success"]
     assert (tmp_path / "fit.png").stat().st_size > 10_000
     assert jax.config.jax_enable_x64
+
+
+def test_identical_points_are_refused(table1):
+    with pytest.raises(jc.InputError, match="1 distinct values among 3 points cannot determine 2 parameters"):
+        fitting.fit([5.0, 5.0, 5.0], [1e8, 1e8, 1e8], table1)
+
+
+def test_loads_in_the_wrong_unit_are_called_a_misfit(table1):
+    """The generated curve with its loads in kN but read as N: the fit converges somewhere, and
+    says that its misfit is far beyond the data's own scatter."""
+    curve = fitting.load_curve(ROOT / "data" / "table1_grinding_generated.csv", table1)
+    result = fitting.fit(curve.loads / 1000.0, curve.stiffness, make_scene(**START))
+    misfits = [w for w in result.warnings if "the model does not describe these data" in w]
+    assert len(misfits) == 1, result.warnings
+
+
+@pytest.mark.parametrize("starts", [0, -3])
+def test_a_number_of_starts_below_one_is_refused(table1, starts):
+    with pytest.raises(jc.InputError, match=rf"n_starts = {starts} must be an integer in \[1, 1024\]"):
+        fitting.fit([1.0, 2.0, 3.0], [1e8, 2e8, 3e8], table1, n_starts=starts)
+
+
+def test_zero_stiffness_does_not_beat_a_finite_misfit(table1):
+    """A flat curve no parameters fit well: the fit must not escape to where every spot is plastic
+    and K = 0 (which ln 0 would make a flagged point with a capped penalty)."""
+    loads = TABLE1_F_STAR[:30] * TABLE1["E"] * TABLE1["area"]
+    result = fitting.fit(loads, np.full(loads.size, 1e9), make_scene(**START))
+    sol = jc.solve(result.scene, loads)
+    assert int(np.sum(np.asarray(sol.fully_plastic))) == 0, result.summary()
+
+
+def test_no_rival_optimum_is_announced_for_the_best_one_itself(table1):
+    """A noiseless curve plus three loads beyond full contact: the starts meet at the truth; no
+    warning may name that same optimum as a distinct rival."""
+    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.0)
+    loads = np.concatenate([loads, [1e9, 2e9, 3e9]])
+    K = np.concatenate([K, [1e11, 1e11, 1e11]])
+    result = fitting.fit(loads, K, make_scene(**START))
+    assert abs(result.values["D"] - TRUTH["D"]) < 1e-6
+    assert not [w for w in result.warnings if "distinct optimum" in w], result.warnings
+
+
+def test_a_curve_made_by_another_model_is_called_a_misfit(table1):
+    """A JZZ curve (5 % noise) fitted with xia2024: whatever the optimum, the fit says that the model
+    does not describe the data, instead of reporting a G 230x off as a success without a word."""
+    loads, K = synthetic_curve(make_scene(**TABLE1, model="jzz2010"), TABLE1_F_STAR, noise=0.05, seed=7)
+    result = fitting.fit(loads, K, make_scene(**START))
+    misfits = [w for w in result.warnings if "the model does not describe these data" in w]
+    assert len(misfits) == 1, result.summary()

@@ -5,20 +5,23 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import PARAMS, TABLE1, make_joint, make_scene, params_of, with_params
+from conftest import GETTERS, PARAMS, TABLE1, make_joint, make_scene, params_of, with_params
 
 import jaxcontact as jc
+from jaxcontact.numerics.compat import x64
 from jaxcontact.studies.scipy_baseline import BaselineParameters, solve_point
 
 E, AREA = TABLE1["E"], TABLE1["area"]
 
 
-def stiffness_at_D(scene, loads):
-    @jax.jit
-    def f(D):
-        return jc.solve(eqx.tree_at(lambda s: s.surface.D, scene, D), loads).stiffness
+@jax.jit
+def _stiffness_at_D(D, scene, loads):
+    return jc.solve(eqx.tree_at(lambda s: s.surface.D, scene, D), loads).stiffness
 
-    return f
+
+def stiffness_at_D(scene, loads):
+    """K(D) at the loads; the scene travels as an argument (traced), as equinox passes modules."""
+    return lambda D: _stiffness_at_D(D, scene, loads)
 
 
 @pytest.mark.parametrize("model", ["xia2024", "jzz2010"])
@@ -149,7 +152,7 @@ def test_float32_agrees_with_float64(model, interaction):
     loads = np.logspace(-7, -4, 7) * E * AREA
     scene64 = make_scene(**TABLE1, model=model, interaction=interaction)
     ref = jc.solve(scene64, jnp.asarray(loads))
-    with jax.enable_x64(False):
+    with x64(False):
         sol = jc.solve(make_scene(**TABLE1, model=model, interaction=interaction), loads.astype(np.float32))
         assert sol.stiffness.dtype == jnp.float32
         np.testing.assert_array_equal(sol.status, ref.status)
@@ -168,7 +171,7 @@ def test_float32_does_not_overflow_at_extreme_D():
     for D in (1.01, 1.99):
         params = {**TABLE1, "D": D, "G": 1e-10}
         ref = jc.solve(make_scene(**params, interaction="series"), loads)
-        with jax.enable_x64(False):
+        with x64(False):
             sol = jc.solve(make_scene(**params, interaction="series"), loads.astype(np.float32))
         np.testing.assert_array_equal(sol.status, ref.status)
         assert np.all(np.asarray(ref.status) == 0)
@@ -211,9 +214,11 @@ def test_paper_interaction_stays_accurate_right_up_to_breakdown(D, G, E, nu, H):
     from jaxcontact.studies import reference
 
     scene = make_scene(D, G, E, nu, H, 1e-4, 1e-9)
-    run = jax.jit(lambda F: jc.solve(scene, F).status)
     log_breakdown = optimize.brentq(
-        lambda lf: 0.5 - float(run(jnp.exp(lf)) == 2), np.log(1e-9 * E * 1e-4), np.log(1e-1 * E * 1e-4), xtol=1e-13
+        lambda lf: 0.5 - float(jc.solve(scene, jnp.exp(lf)).status == 2),
+        np.log(1e-9 * E * 1e-4),
+        np.log(1e-1 * E * 1e-4),
+        xtol=1e-13,
     )
     loads = np.exp(log_breakdown) * np.array([0.5, 0.99, 0.999, 0.9999])
     sol = jc.solve(scene, jnp.asarray(loads))
@@ -221,3 +226,54 @@ def test_paper_interaction_stays_accurate_right_up_to_breakdown(D, G, E, nu, H):
     exact = [reference.stiffness(D, G, E, nu, H, 1e-4, 1e-9, F)[0] for F in loads]
     np.testing.assert_allclose(sol.stiffness, exact, rtol=1e-10)
     assert int(jc.solve(scene, np.exp(log_breakdown) * 1.0001).status) == jc.Status.INTERACTION_BREAKDOWN
+
+
+def test_series_interaction_where_every_spot_is_plastic_gives_zero_not_nan():
+    """All spots plastic (D → 1, tiny G): the "series" stiffness is 0 like the others, not NaN with status ok."""
+    scene = make_scene(D=1.0001, G=1e-10, E=1e9, nu=0.25, H=7.1876e9, area=1e-4, l_min=1e-9, interaction="series")
+    sol = jc.solve(scene, np.array([1e-10, 1e-6, 1e-3]) * 1e9 * 1e-4)
+    np.testing.assert_array_equal(np.asarray(sol.status), 0)
+    np.testing.assert_array_equal(np.asarray(sol.stiffness), 0.0)
+
+
+def test_a_nan_load_leaves_the_gradient_with_respect_to_the_scales_finite(table1_scene):
+    """loads [22, 2200, NaN], loss = masked Σ ln K: d/dE and d/dA_a equal those without the NaN load."""
+
+    def loss(scene, loads):
+        sol = jc.solve(scene, loads)
+        return jnp.sum(jnp.where(sol.ok, jnp.log(jnp.where(sol.ok, sol.stiffness, 1.0)), 0.0))
+
+    grad = eqx.filter_jit(eqx.filter_grad(loss))
+    with_nan = grad(table1_scene, jnp.array([22.0, 2200.0, jnp.nan]))
+    without = grad(table1_scene, jnp.array([22.0, 2200.0, 22.0]))
+    for name in ("E", "area"):
+        value = float(GETTERS[name](with_nan))
+        assert np.isfinite(value), name
+        # The third load of `without` repeats the first: its share is the first's.
+        first = float(GETTERS[name](grad(table1_scene, jnp.array([22.0]))))
+        np.testing.assert_allclose(value, float(GETTERS[name](without)) - first, rtol=1e-12, err_msg=name)
+
+
+def test_loads_too_small_to_resolve_are_flagged_not_wrong(table1_scene):
+    """a_l within round-off of a_min: K ∝ ln(a_l/a_min) there cannot be computed, so it is flagged."""
+    scene = table1_scene.with_options(interaction="none")
+    tiny = np.array([2.0066919810107414e-19, 2.0066919810102448e-21])  # K was 1.2 % and 40x off, status ok
+    sol = jc.solve(scene, tiny)
+    np.testing.assert_array_equal(np.asarray(sol.status), jc.Status.UNRESOLVED_LOAD)
+    assert int(jc.solve(scene, 2.2e7 * 1e-16).status) == 0  # ln(a_l/a_min) = 0.011: resolved
+
+
+def test_float32_flags_what_it_cannot_resolve_and_gets_the_rest_right():
+    params = dict(D=1.5, G=1e-8, E=220e9, nu=0.25, H=100e9, area=1e-6, l_min=1e-7)
+    loads = np.array([1e-12, 1e-8]) * 220e9 * 1e-6
+    reference = np.asarray(jc.solve(make_scene(**params), loads).stiffness)
+    with x64(False):
+        sol = jc.solve(make_scene(**params), loads.astype(np.float32))
+        np.testing.assert_array_equal(np.asarray(sol.status), [jc.Status.UNRESOLVED_LOAD, 0])
+        np.testing.assert_allclose(float(sol.stiffness[1]), reference[1], rtol=1e-4)
+
+
+def test_an_enormous_G_is_flagged_instead_of_one_answer_for_two_loads():
+    """G = 1e300 m: every load puts a_l within round-off of a_min (it gave one a_l and K for two loads)."""
+    sol = jc.solve(make_scene(**{**TABLE1, "G": 1e300}), np.array([22.0, 2200.0]))
+    np.testing.assert_array_equal(np.asarray(sol.status), jc.Status.UNRESOLVED_LOAD)

@@ -6,6 +6,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
+from jaxcontact.numerics.compat import x64
 from jaxcontact.numerics.pole_integral import PoleIntegral
 
 # p = δ/q + 4 spans [2, 6] over D in (1, 2): 2 in the elastic regime, 4.2–5.9 in the others.
@@ -58,7 +59,7 @@ def test_derivatives_in_u_and_p(p):
 
 
 def test_float32():
-    with jax.enable_x64(False):
+    with x64(False):
         pole = PoleIntegral.build(jnp.asarray(4.4, jnp.float32))
         log_u = jnp.log(jnp.asarray([1e-6, 0.3, 0.7, 0.999], jnp.float32))
         got = np.asarray(pole(log_u, jnp.zeros(4, jnp.float32)))

@@ -80,3 +80,14 @@ def test_unreadable_files(tmp_path: pathlib.Path):
 
 def test_scene_object_is_the_library_scene():
     assert isinstance(parse_scene(GOOD).scene, jc.Scene)
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_text("\ufeff" + (ROOT / "data" / "scenes" / "table1_grinding.toml").read_text(), encoding="utf-8")
+    assert load_scene(path).title == load_scene().title
+
+
+def test_a_directory_is_not_called_missing(tmp_path):
+    with pytest.raises(SceneFileError, match="is a directory"):
+        load_scene(tmp_path)

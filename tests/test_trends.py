@@ -3,7 +3,7 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import SEC51, make_scene
+from conftest import SEC51, TABLE1, make_scene
 
 import jaxcontact as jc
 
@@ -55,3 +55,13 @@ def test_regime_shares_sum_to_one(model):
     np.testing.assert_allclose(np.sum(np.asarray(sol.stiffness_share), axis=-1), 1.0, rtol=1e-12)
     plastic = sol.regimes.index("p")
     assert np.all(np.asarray(sol.stiffness_share)[:, plastic] == 0)  # plastic spots add no stiffness
+
+
+def test_all_plastic_points_say_why_their_stiffness_is_zero():
+    """D → 1 with a tiny G: every spot is past a_c, fully plastic; K = 0 is right and flagged as such."""
+    scene = make_scene(D=1.0001, G=1e-10, E=1e9, nu=0.25, H=7.1876e9, area=1e-4, l_min=1e-9, interaction="none")
+    sol = jc.solve(scene, np.array([1e-10, 1e-6, 1e-3]) * 1e9 * 1e-4)
+    np.testing.assert_array_equal(np.asarray(sol.status), 0)
+    np.testing.assert_array_equal(np.asarray(sol.stiffness), 0.0)
+    np.testing.assert_array_equal(np.asarray(sol.fully_plastic), True)
+    assert not bool(jc.solve(make_scene(**TABLE1), 22.0).fully_plastic)

@@ -30,7 +30,7 @@ from ..core.parameters import Parameter
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
-from ..numerics.validate import as_array, check_range, concrete
+from ..numerics.validate import InputError, as_array, check_range, concrete
 
 
 class Drive(eqx.Module):
@@ -58,7 +58,7 @@ class Drive(eqx.Module):
         check_range("frequency", self.frequency, 0.0, meaning="Hz")
         F0, F1 = concrete(self.preload), concrete(self.amplitude)
         if F0 is not None and F1 is not None and not ((0 < F1) & (F1 < F0)).all():
-            raise ValueError(
+            raise InputError(
                 f"amplitude = {F1} N must satisfy 0 < amplitude < preload = {F0} N "
                 "(a larger amplitude would open the joint)"
             )

@@ -11,6 +11,18 @@ class CommandError(Exception):
     """A user mistake to report in one line."""
 
 
+def warn_implausible(spec, command: str) -> list[str]:
+    """Print (to stderr) and return the scene's implausible values: likely unit mistakes."""
+    import sys
+
+    from ..core.domain import implausible
+
+    warnings = implausible(spec.scene)
+    for w in warnings:
+        print(f"jaxcontact {command}: warning: {w}", file=sys.stderr)
+    return warnings
+
+
 def print_result(payload, fmt: str, text: str) -> None:
     from .report import to_json
 
@@ -18,12 +30,15 @@ def print_result(payload, fmt: str, text: str) -> None:
 
 
 def cmd_run(args) -> int:
+    import numpy as np
+
     from ..applications.chunks import solve_sweep
     from .plots import flagged_summary, plot_sweep
     from .report import format_table, record_comments, scene_record, solution_rows, write_csv
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)
+    warnings = warn_implausible(spec, "run")
     solution = solve_sweep(spec.scene, spec.loads, progress=args.progress and spec.loads.size > 4096)
     rows = solution_rows(solution)
     if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
@@ -36,8 +51,12 @@ def cmd_run(args) -> int:
     files = [str(out / "results.csv")] + plot_sweep(solution, spec.title, out)
     choices = ", ".join(f"{k} {v!r}" for k, v in spec.scene.model.options().items())
     flagged = flagged_summary(solution.status)
+    plastic = int(np.sum(solution.fully_plastic))
+    if plastic:
+        flagged += f"; {plastic} fully plastic (K = 0: every contact spot is plastic, Sec. 4.2)"
     summary = f"{spec.title}\n{choices}; {flagged}\n\n{format_table(rows)}\n\n" + "\n".join(f"wrote {f}" for f in files)
-    payload = {"title": spec.title, "source": spec.source, "scene": record, "flagged": flagged, "rows": rows}
+    payload = {"title": spec.title, "source": spec.source, "scene": record, "flagged": flagged, "warnings": warnings}
+    payload["rows"] = rows
     print_result({**payload, "files": files}, args.format, summary)
     return 0
 
@@ -62,6 +81,19 @@ def _require(spec, effect: str, table: str) -> None:
         )
 
 
+def _require_valid_preload(scene, load: float, key: str) -> None:
+    """A preload where the model gives no stiffness makes every row meaningless: refuse it."""
+    from ..core.loadcontrol import solve
+    from ..core.status import status_message
+
+    status = int(solve(scene, load).status)
+    if status != 0:
+        raise CommandError(
+            f"{key} = {load:g} N is outside the model ({status_message(status)}): choose a preload where the "
+            "stiffness is valid (see jaxcontact run on this scene)"
+        )
+
+
 def cmd_approach(args) -> int:
     import numpy as np
 
@@ -71,6 +103,7 @@ def cmd_approach(args) -> int:
 
     spec = load_scene(args.scene, default=DYNAMICS_SCENE)
     _require(spec, "approach_reference", "approach")
+    _require_valid_preload(spec.scene, spec.approach_reference, "approach.reference_load")
     rows = _approach_rows(spec)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -186,7 +219,10 @@ def cmd_fit(args) -> int:
     from .report import scene_record
     from .scenefile import load_scene
 
+    if not 1 <= args.starts <= 1024:
+        raise CommandError(f"--starts {args.starts} must be an integer in [1, 1024]")
     spec = load_scene(args.scene)
+    warn_implausible(spec, "fit")
     curve = fitting.load_curve(args.data, spec.scene)
     t = time.perf_counter()
     if args.progress:

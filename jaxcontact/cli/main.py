@@ -11,11 +11,14 @@ import contextlib
 import os
 import pathlib
 import sys
+import traceback
 
+from ..numerics.validate import InputError
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
 
 EXIT_USAGE = 2
+EXIT_INTERNAL = 70  # EX_SOFTWARE
 
 
 _SETTINGS = (
@@ -67,8 +70,15 @@ def command_settings():
             jax.config.update(name, value)
 
 
+def _version() -> str:
+    from .. import __version__
+
+    return __version__
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"jaxcontact {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     def common(p, default_out):
@@ -137,9 +147,24 @@ def main(argv=None) -> int:
     try:
         with command_settings():
             return args.func(args)
-    except (ValueError, CommandError, OSError) as exc:  # SceneFileError and DataError are ValueErrors
+    except (
+        InputError,
+        CommandError,
+        FileNotFoundError,
+        IsADirectoryError,
+        NotADirectoryError,
+        PermissionError,
+    ) as exc:  # the user's to fix: SceneFileError and DataError are InputErrors
         print(f"jaxcontact {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except Exception:  # anything else is a bug, not a mistake in the input: say so, with the traceback
+        traceback.print_exc()
+        print(
+            f"jaxcontact {args.command}: internal error (a bug in jaxcontact, not in your input): please "
+            "report it with the traceback above",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
     except KeyboardInterrupt:
         print("jaxcontact: interrupted", file=sys.stderr)
         return 130

@@ -14,8 +14,10 @@ from ..core.status import status_message
 
 
 def solution_rows(solution: Solution) -> list[dict]:
-    """One dictionary per load: F, F*, a_l, K, K*, A_r, status (and regime shares if computed)."""
+    """One dictionary per load: F, F*, a_l, K, K*, A_r, status, whether every spot is plastic
+    (K = 0 with status ok), and the regime shares if computed."""
     rows = []
+    fully_plastic = np.asarray(solution.fully_plastic)
     for i in range(np.size(solution.load)):
         row = {
             "F_N": float(solution.load[i]),
@@ -25,6 +27,7 @@ def solution_rows(solution: Solution) -> list[dict]:
             "K_star": float(solution.stiffness_star[i]),
             "real_area_m2": float(solution.real_area[i]),
             "status": status_message(solution.status[i]),
+            "fully_plastic": bool(fully_plastic[i]),
         }
         if solution.load_share is not None:
             for j, regime in enumerate(solution.regimes):
@@ -50,9 +53,13 @@ HEADERS = {
 }
 
 
+def _status_cell(row: dict) -> str:
+    return "ok (K = 0: every spot plastic)" if row.get("fully_plastic") else row["status"]
+
+
 def format_table(rows: list[dict], columns=("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")) -> str:
     header = [HEADERS.get(c, c) for c in columns]
-    cells = [[_cell(r[c]) for c in columns] for r in rows]
+    cells = [[_status_cell(r) if c == "status" else _cell(r[c]) for c in columns] for r in rows]
     widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(header)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths)) for row in cells]

@@ -34,6 +34,7 @@ except ModuleNotFoundError:  # Python < 3.11
 from ..core.parameters import Material, Surface
 from ..core.scales import Scales
 from ..core.scene import Scene
+from ..numerics.validate import InputError
 
 DEFAULT_SCENE = "table1_grinding.toml"
 
@@ -61,7 +62,7 @@ DYNAMICS_SCENE = "table1_dynamics.toml"
 MAX_LOADS = 10_000_000
 
 
-class SceneFileError(ValueError):
+class SceneFileError(InputError):
     """A scene file that cannot be used; the message names the key, the value and what is allowed."""
 
 
@@ -179,7 +180,7 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
         )
     except SceneFileError:
         raise
-    except ValueError as exc:
+    except InputError as exc:
         raise SceneFileError(str(exc)) from None
     loads = _loads(data["loads"], float(Scales.of(scene).load))
     reference = data.get("approach", {}).get("reference_load")
@@ -244,9 +245,11 @@ def load_scene(path: str | pathlib.Path | None = None, default: str = DEFAULT_SC
         source = f"<embedded {default}>"
     else:
         path = pathlib.Path(path)
+        if path.is_dir():
+            raise SceneFileError(f"scene file {str(path)!r} is a directory, not a TOML file")
         if not path.is_file():
             raise SceneFileError(f"scene file {str(path)!r} does not exist")
-        text, source = path.read_text(), str(path)
+        text, source = path.read_text().lstrip("\ufeff"), str(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

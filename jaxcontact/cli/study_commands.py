@@ -23,6 +23,7 @@ def cmd_figures(args) -> int:
 def cmd_bench(args) -> int:
     from ..studies.bench import run_all
     from ..studies.bench_report import format_results
+    from .report import scene_record, to_json
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)
@@ -32,7 +33,14 @@ def cmd_bench(args) -> int:
 
         progress = lambda steps: tqdm(steps, desc="benchmarks", unit="step")  # noqa: E731
     results = run_all(spec.scene, progress=progress)
-    print_result({"scene": spec.title, **results}, args.format, f"{spec.title}\n" + format_results(results))
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    text = f"{spec.title}\n" + format_results(results)
+    payload = {"scene": scene_record(spec), **results}
+    (out / "bench.txt").write_text(text + "\n")
+    (out / "bench.json").write_text(to_json(payload) + "\n")
+    files = [str(out / "bench.txt"), str(out / "bench.json")]
+    print_result({**payload, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
     return 0
 
 

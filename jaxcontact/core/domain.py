@@ -23,7 +23,9 @@ class ParameterSpec:
     **Fields:** `name`; `meaning` and `unit` (for messages and tables); the valid range
     `low`..`high` with `low_open`/`high_open`; `get`, where it lives in a `Scene`; `log`, whether
     it is a positive scale (fitted and reported in logs); `search`, the range a fit explores by
-    default (inside the valid range; finite, for the bounded reparameterisation).
+    default (inside the valid range; finite, for the bounded reparameterisation); `typical`, the
+    range engineering surfaces and materials have, outside which a value is more likely a unit
+    mistake than a surface (`implausible`), with `unit_hint` naming the likely mistake.
     """
 
     name: str
@@ -36,6 +38,8 @@ class ParameterSpec:
     search: tuple[float, float]
     low_open: bool = True
     high_open: bool = True
+    typical: tuple[float, float] | None = None
+    unit_hint: str = ""
 
     def check(self, value) -> None:
         """Raise `ValueError` (naming the parameter, its value and its range) for a concrete value outside it."""
@@ -60,20 +64,88 @@ PARAMETERS: dict[str, ParameterSpec] = {
     p.name: p
     for p in (
         ParameterSpec("D", "fractal dimension", "", 1.0, 2.0, lambda s: s.surface.D, False, (1.0, 2.0)),
-        ParameterSpec("G", "fractal roughness", "m", 0.0, math.inf, lambda s: s.surface.G, True, (1e-15, 1e-6)),
         ParameterSpec(
-            "l_min", "lower cutoff length", "m", 0.0, math.inf, lambda s: s.surface.l_min, True, (1e-12, 1e-6)
+            "G",
+            "fractal roughness",
+            "m",
+            0.0,
+            math.inf,
+            lambda s: s.surface.G,
+            True,
+            (1e-15, 1e-6),
+            typical=(1e-16, 1e-7),
+            unit_hint="given in nm or µm instead of m?",
         ),
         ParameterSpec(
-            "E", "equivalent elastic modulus", "Pa", 0.0, math.inf, lambda s: s.material.E, True, (1e8, 1e13)
+            "l_min",
+            "lower cutoff length",
+            "m",
+            0.0,
+            math.inf,
+            lambda s: s.surface.l_min,
+            True,
+            (1e-12, 1e-6),
+            typical=(1e-11, 1e-4),
+            unit_hint="given in nm or µm instead of m?",
+        ),
+        ParameterSpec(
+            "E",
+            "equivalent elastic modulus",
+            "Pa",
+            0.0,
+            math.inf,
+            lambda s: s.material.E,
+            True,
+            (1e8, 1e13),
+            typical=(1e8, 2e12),
+            unit_hint="given in GPa or MPa instead of Pa?",
         ),
         ParameterSpec(
             "nu", "Poisson's ratio", "", 0.0, 0.5, lambda s: s.material.nu, False, (0.0, 0.5), low_open=False
         ),
-        ParameterSpec("H", "hardness", "Pa", 0.0, math.inf, lambda s: s.material.H, True, (1e6, 1e12)),
-        ParameterSpec("area", "nominal contact area", "m²", 0.0, math.inf, lambda s: s.area, True, (1e-10, 1.0)),
+        ParameterSpec(
+            "H",
+            "hardness",
+            "Pa",
+            0.0,
+            math.inf,
+            lambda s: s.material.H,
+            True,
+            (1e6, 1e12),
+            typical=(1e7, 1e11),
+            unit_hint="given in GPa or MPa instead of Pa?",
+        ),
+        ParameterSpec(
+            "area",
+            "nominal contact area",
+            "m²",
+            0.0,
+            math.inf,
+            lambda s: s.area,
+            True,
+            (1e-10, 1.0),
+            typical=(1e-10, 1.0),
+            unit_hint="given in mm² instead of m²?",
+        ),
     )
 }
+
+
+def implausible(scene) -> list[str]:
+    """Warnings for concrete parameters outside what engineering surfaces have (`typical`): a
+    unit mistake, most likely. The model runs with them as they are; this only says so."""
+    out = []
+    for name, spec in PARAMETERS.items():
+        value = spec.get(scene)
+        if spec.typical is None or jnp.ndim(value) != 0:
+            continue
+        low, high = spec.typical
+        if not low <= float(value) <= high:
+            out.append(
+                f"{name} = {float(value):g} {spec.unit} is far outside what engineering surfaces have "
+                f"({low:g}–{high:g} {spec.unit}): {spec.unit_hint} The model runs with it as it is."
+            )
+    return out
 
 
 def scene_fields(scene) -> tuple:

@@ -19,7 +19,7 @@ from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..models.base import PointResult
 from ..numerics.elementwise import unrolled_sum
-from ..numerics.validate import concrete
+from ..numerics.validate import InputError, concrete
 from .defaults import table1_values
 from .domain import PARAMETERS, inside_domain, scene_fields
 from .scales import Scales, nondimensionalise
@@ -36,7 +36,7 @@ def _check_loads(loads) -> None:
     if np.any(bad):
         where = np.argwhere(bad)[0]
         index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
-        raise ValueError(
+        raise InputError(
             f"loads{index} = {float(values[tuple(where)])!r} N is not a valid load: "
             "loads must be finite and > 0 (valid range (0, inf) N)"
         )
@@ -91,7 +91,10 @@ def _solve(scene: Scene, loads):
     # flagged by `point_solver`, which is handed the scene as it is).
     guarded, _ = within_domain(scene)
     scales = Scales.of(guarded)
-    load_star = loads / scales.load
+    # A traced NaN or non-positive load is flagged by `point_solver`; divided by E A_a as it is, it
+    # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
+    usable = jnp.isfinite(loads) & (loads > 0)
+    load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
     points = jax.vmap(point_solver(scene))(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
@@ -122,8 +125,18 @@ def _solve(scene: Scene, loads):
     )
 
 
+def _check_scalar_parameters(scene: Scene) -> None:
+    for name, value in zip(PARAMETERS, scene_fields(scene)):
+        if not isinstance(value, jax.core.Tracer) and jnp.ndim(value) != 0:
+            raise InputError(
+                f"{name} has shape {jnp.shape(value)}: solve takes one scene, with scalar parameters; for a batch "
+                "of scenes, vmap over them: jax.vmap(jc.solve, in_axes=(0, None))(jc.stack_scenes(scenes), loads)"
+            )
+
+
 def prepare(scene: Scene, loads):
-    """Check concrete loads, pick the working dtype, and make every float leaf an array of it."""
+    """Check concrete loads and parameters, pick the working dtype, and make every float leaf an array of it."""
+    _check_scalar_parameters(scene)
     _check_loads(loads)
     dtype = _working_dtype(scene, loads)
     return jax.tree.map(lambda x: jnp.asarray(x, dtype), scene), jnp.asarray(loads, dtype)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import equinox as eqx
 
 from ..models.base import AbstractContactModel
-from ..numerics.validate import as_array, concrete
+from ..numerics.validate import InputError, as_array, concrete
 from ..registry import build_model
 from .domain import PARAMETERS
 from .parameters import Material, Parameter, Surface
@@ -61,15 +61,15 @@ class Scene(eqx.Module):
         solver_tolerance: float | None = None,
     ):
         if not isinstance(surface, Surface):
-            raise ValueError(f"surface must be a jaxcontact.Surface, got {type(surface).__name__}")
+            raise InputError(f"surface must be a jaxcontact.Surface, got {type(surface).__name__}")
         if not isinstance(material, Material):
-            raise ValueError(f"material must be a jaxcontact.Material, got {type(material).__name__}")
+            raise InputError(f"material must be a jaxcontact.Material, got {type(material).__name__}")
         if not isinstance(regime_shares, bool):
-            raise ValueError(f"regime_shares = {regime_shares!r} must be true or false")
+            raise InputError(f"regime_shares = {regime_shares!r} must be true or false")
         if isinstance(max_steps, bool) or not isinstance(max_steps, int) or not 1 <= max_steps <= 10_000:
-            raise ValueError(f"max_steps = {max_steps!r} must be an integer in [1, 10000]")
+            raise InputError(f"max_steps = {max_steps!r} must be an integer in [1, 10000]")
         if solver_tolerance is not None and not 0.0 < solver_tolerance < 1e-2:
-            raise ValueError(f"solver_tolerance = {solver_tolerance!r} must be None or in (0, 0.01)")
+            raise InputError(f"solver_tolerance = {solver_tolerance!r} must be None or in (0, 0.01)")
         self.surface = surface
         self.material = material
         self.area = as_array(area)
@@ -104,7 +104,7 @@ class Scene(eqx.Module):
         PARAMETERS["area"].check(self.area)
         l_min, area = concrete(self.surface.l_min), concrete(self.area)
         if l_min is not None and area is not None and not (l_min**2 < area).all():
-            raise ValueError(
+            raise InputError(
                 f"l_min = {l_min} m is too large for area = {area} m²: l_min² must be smaller than the nominal area"
             )
 
@@ -119,8 +119,8 @@ def stack_scenes(scenes) -> Scene:
 
     scenes = list(scenes)
     if not scenes:
-        raise ValueError("stack_scenes needs at least one scene")
+        raise InputError("stack_scenes needs at least one scene")
     structures = {jax.tree.structure(s) for s in scenes}
     if len(structures) != 1:
-        raise ValueError("stack_scenes: the scenes differ in model, interaction, distribution or settings")
+        raise InputError("stack_scenes: the scenes differ in model, interaction, distribution or settings")
     return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x) for x in xs]), *scenes)

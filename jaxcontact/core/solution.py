@@ -29,7 +29,7 @@ class Solution(eqx.Module):
 
     **Properties:** `load_star`, `stiffness_star`, `real_area_star`, `a_l_star`, the paper's
     dimensionless F* = F/(E A_a), K* = K/(E sqrt(A_a)), A_r* = A_r/A_a, a_l* = a_l/A_a (NaN where
-    their dimensional twins are), `scales`, and `ok`. They are computed when asked for, not
+    their dimensional twins are), `scales`, `ok` and `fully_plastic`. They are computed when asked for, not
     stored, so that a call does not pay for outputs it does not use; inside a jitted function
     they fuse with whatever uses them.
     """
@@ -54,6 +54,12 @@ class Solution(eqx.Module):
     def ok(self):
         """Boolean mask of the valid points."""
         return self.status == Status.OK
+
+    @property
+    def fully_plastic(self):
+        """Valid points with K = 0 because every contact spot is fully plastic (plastic spots carry
+        load but add no stiffness, Sec. 4.2): the number is right, and this says why it is zero."""
+        return self.ok & (self.stiffness == 0)
 
     @property
     def solved(self):

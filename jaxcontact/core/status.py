@@ -19,6 +19,10 @@ class Status(enum.IntEnum):
       concrete ones raise `ValueError`).
     - `INVALID_PARAMETERS`: a traced scene parameter lies outside its valid range (e.g. an
       optimiser stepped to D = 2); concrete ones raise `ValueError` when the scene is built.
+    - `UNRESOLVED_LOAD`: the load is so small that its largest spot lies within round-off of the
+      smallest asperity a_min = l_min² (ln(a_l/a_min) below ~1e5 ulps of ln a_min in the working
+      precision), so the stiffness, which is proportional to that difference there, cannot be
+      computed to 1e-8 (float64) or 1e-4 (float32). Use float64, or larger loads.
     """
 
     OK = 0
@@ -27,6 +31,7 @@ class Status(enum.IntEnum):
     NOT_CONVERGED = 3
     INVALID_LOAD = 4
     INVALID_PARAMETERS = 5
+    UNRESOLVED_LOAD = 6
 
 
 def status_message(code: int) -> str:

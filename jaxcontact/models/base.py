@@ -151,6 +151,13 @@ class AbstractLargestSpotModel(AbstractContactModel):
         # Failed points are solved at a harmless stand-in: the load that puts a_l midway (in logs).
         log_load_middle = jnp.log(joint.total_load(0.5 * joint.log_a_min))
         joint_valid = jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle)
+        # Where F_t(a_min) = 0, loads near it put a_l a hair above a_min and the totals are
+        # proportional to ln(a_l/a_min), which round-off in ln a_l (a few ulps of |ln a_min|)
+        # cannot resolve below this: such points are flagged, not returned as numbers.
+        eps = float(jnp.finfo(jnp.result_type(joint.log_a_min)).eps)
+        target = max(1e-8, 1e3 * eps)  # relative accuracy asked of K: 1e-8 in float64, 1e-4 in float32
+        smallest_resolved = 4.0 * eps * jnp.abs(joint.log_a_min) / target
+        starts_at_zero = ~jnp.isfinite(log_load_lowest)
 
         def one_point(F_star) -> PointResult:
             valid = jnp.isfinite(F_star) & (F_star > 0)
@@ -170,13 +177,15 @@ class AbstractLargestSpotModel(AbstractContactModel):
                 slope=_piece_residual_slope,
             )
             response = joint.response(log_a_l, log_load)
+            unresolved = starts_at_zero & (log_a_l - joint.log_a_min < smallest_resolved)
             status = jnp.select(
-                [~joint_valid, ~valid, ~in_range, ~converged, response.breakdown],
+                [~joint_valid, ~valid, ~in_range, ~converged, unresolved, response.breakdown],
                 [
                     Status.INVALID_PARAMETERS,
                     Status.INVALID_LOAD,
                     Status.LOAD_OUT_OF_RANGE,
                     Status.NOT_CONVERGED,
+                    Status.UNRESOLVED_LOAD,
                     Status.INTERACTION_BREAKDOWN,
                 ],
                 Status.OK,

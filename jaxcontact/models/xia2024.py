@@ -24,7 +24,7 @@ from ..core.scales import DimensionlessScene
 from ..numerics.interaction_integral import paper_correction, series_correction
 from ..numerics.powerlaw import PowerLaw
 from ..numerics.quadrature import AbstractQuadrature, GaussLegendre, PowerSeries
-from ..numerics.validate import check_instance
+from ..numerics.validate import InputError, check_instance
 from ..physics.asperity import interference, regime_edges, regime_load_laws
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
 from ..physics.interaction import (
@@ -82,7 +82,7 @@ class Xia2024(AbstractLargestSpotModel):
         check_instance("distribution", self.distribution, AbstractDistribution)
         check_instance("quadrature", self.quadrature, AbstractQuadrature)
         if isinstance(self.quadrature, PowerSeries) and isinstance(self.interaction, SeriesInteraction):
-            raise ValueError(
+            raise InputError(
                 "quadrature = 'power-series' applies to interaction 'paper' only (got interaction = "
                 "'series'); use 'gauss-legendre' or 'adaptive'"
             )

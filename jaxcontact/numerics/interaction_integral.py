@@ -35,9 +35,17 @@ def series_correction(
         r = jnp.exp(r_log + r_rate * t)
         return jnp.exp(d_log + d_rate * t) * (-r / (1.0 + r))
 
-    return quadrature.integrate_rows(
-        integrand, (density.log_coeff, density.exponent, ratio.log_coeff, ratio.exponent), lower, upper
+    # An empty row (a regime no spot reaches) is exactly 0. Its coefficients can be far out of
+    # range (a_c ∝ φ^(2/(1-D)) as D → 1), and inf · 0 is NaN: they are replaced by harmless ones.
+    nonempty = upper > lower
+    safe = (
+        jnp.where(nonempty, density.log_coeff, 0.0),
+        density.exponent,
+        jnp.where(nonempty, ratio.log_coeff, 0.0),
+        ratio.exponent,
     )
+    value = quadrature.integrate_rows(integrand, safe, lower, upper)
+    return jnp.where(nonempty, value, 0.0)
 
 
 def paper_correction(

@@ -16,6 +16,8 @@ import jax.numpy as jnp
 import numpy as np
 import quadax
 
+from .validate import InputError
+
 
 @functools.cache
 def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
@@ -78,7 +80,7 @@ class GaussLegendre(AbstractRowQuadrature):
 
     def __check_init__(self):
         if isinstance(self.nodes, bool) or not isinstance(self.nodes, int) or not 2 <= self.nodes <= 1024:
-            raise ValueError(f"quadrature_nodes = {self.nodes!r} must be an integer in [2, 1024]")
+            raise InputError(f"quadrature_nodes = {self.nodes!r} must be an integer in [2, 1024]")
 
     def integrate_rows(self, integrand, row_args, log_lower, log_upper):
         expanded = tuple(a[..., None] for a in row_args)
@@ -93,7 +95,7 @@ class Adaptive(AbstractRowQuadrature):
 
     def __check_init__(self):
         if not 0.0 < self.tolerance < 1e-1:
-            raise ValueError(f"quadrature_tolerance = {self.tolerance!r} must be in (0, 0.1)")
+            raise InputError(f"quadrature_tolerance = {self.tolerance!r} must be in (0, 0.1)")
 
     def integrate_rows(self, integrand, row_args, log_lower, log_upper):
         nonempty = log_upper > log_lower

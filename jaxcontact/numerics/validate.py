@@ -13,6 +13,11 @@ import jax.numpy as jnp
 import numpy as np
 
 
+class InputError(ValueError):
+    """A value given to jaxcontact that it does not accept. The message names the parameter, the
+    value and what is allowed; the command line reports it in one line (exit status 2)."""
+
+
 def as_array(value):
     """Numbers and arrays become JAX arrays (pytree leaves that `eqx.filter_grad`, `filter_jit`
     and `filter_vmap` treat as parameters); tracers pass through.
@@ -21,7 +26,7 @@ def as_array(value):
     (float32, or float64 under `jax_enable_x64`) instead of fixing one at construction.
     """
     if isinstance(value, bool):
-        raise ValueError(f"expected a number, got the boolean {value!r}")
+        raise InputError(f"expected a number, got the boolean {value!r}")
     if isinstance(value, jax.core.Tracer):
         return value
     if isinstance(value, (int, np.integer)):
@@ -29,9 +34,9 @@ def as_array(value):
     try:
         array = jnp.asarray(value)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"expected a number or an array of numbers, got {value!r}") from exc
+        raise InputError(f"expected a number or an array of numbers, got {value!r}") from exc
     if not jnp.issubdtype(array.dtype, jnp.number) or jnp.issubdtype(array.dtype, jnp.complexfloating):
-        raise ValueError(f"expected a real number, got {value!r}")
+        raise InputError(f"expected a real number, got {value!r}")
     return array if jnp.issubdtype(array.dtype, jnp.floating) else array.astype(float)
 
 
@@ -42,7 +47,7 @@ def concrete(value) -> np.ndarray | None:
     try:
         return np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"expected a number, got {value!r}") from exc
+        raise InputError(f"expected a number, got {value!r}") from exc
 
 
 def _describe(values: np.ndarray) -> str:
@@ -73,16 +78,16 @@ def check_range(
         right = ")" if high_open else "]"
         interval = f"{left}{low:g}, {high:g}{right}"
         what = f" ({meaning})" if meaning else ""
-        raise ValueError(f"{name}{what} = {_describe(values)} is outside its valid range {interval}")
+        raise InputError(f"{name}{what} = {_describe(values)} is outside its valid range {interval}")
 
 
 def check_choice(name: str, value, choices: tuple[str, ...]) -> None:
     if value not in choices:
         allowed = ", ".join(repr(c) for c in choices)
-        raise ValueError(f"{name} = {value!r} is not one of {allowed}")
+        raise InputError(f"{name} = {value!r} is not one of {allowed}")
 
 
 def check_instance(name: str, value, kind: type) -> None:
     """Raise `ValueError` unless `value` is a `kind` (a model's choice passed as an object)."""
     if not isinstance(value, kind):
-        raise ValueError(f"{name} = {value!r} must be a {kind.__name__} (see jaxcontact.{kind.__name__})")
+        raise InputError(f"{name} = {value!r} must be a {kind.__name__} (see jaxcontact.{kind.__name__})")

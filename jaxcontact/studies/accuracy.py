@@ -19,6 +19,7 @@ import numpy as np
 from ..core.loadcontrol import solve
 from ..core.scales import Scales
 from ..core.scene import Scene
+from ..numerics.compat import x64
 from . import reference
 from .bench import best_of
 
@@ -92,7 +93,7 @@ def study(scene: Scene, F_star_range=(1e-7, 9.81e-4), quick: bool = False, progr
     items = knobs(quick)
     for knob in items if progress is None else progress(items):
         variant = scene.with_options(**knob.settings)
-        with jax.enable_x64(not knob.float32):
+        with x64(not knob.float32):
             F = loads.astype(np.float32 if knob.float32 else np.float64)
             run = jax.jit(solve)
             t = time.perf_counter()

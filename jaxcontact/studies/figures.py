@@ -14,30 +14,52 @@ import numpy as np
 
 from ..applications.chunks import solve_sweep
 from ..cli.plots import save_figure, subplots
+from ..core.defaults import table1_values
 from ..core.parameters import Material, Surface
 from ..core.scene import Scene
 
 SEC51 = dict(E=210e9, nu=0.3, H=120e9)
-TABLE1 = dict(D=1.4058, G=2.2826e-10, E=220e9, nu=0.25, H=100e9)
+TABLE1 = table1_values()
 AREA = 1e-4
+L_MIN = 1e-9
 F_STAR = np.geomspace(1e-7, 1e-3, 60)
+# Line style and marker per curve, so that curves stay apart in print and where they overlap.
+STYLES = (("-", "o"), ("--", "s"), ("-.", "^"), (":", "v"), ((0, (5, 1, 1, 1, 1, 1)), "D"))
 
 
-def _scene(D, G_star, material, l_min=1e-9, **kw):
+def _material_line(material, model="xia2024, interaction 'paper', MB distribution") -> str:
+    return (
+        f"E = {material['E'] / 1e9:g} GPa, ν = {material['nu']:g}, H = {material['H'] / 1e9:g} GPa, "
+        f"A_a = {AREA:g} m², l_min = {L_MIN * 1e9:g} nm\n{model}"
+    )
+
+
+def _scene(D, G_star, material, l_min=L_MIN, **kw):
     return Scene(Surface(D=D, G=G_star * np.sqrt(AREA), l_min=l_min), Material(**material), AREA, **kw)
 
 
-def _curve(ax, scene, label, y="stiffness_star", style="-"):
+def _curve(ax, scene, label, y="stiffness_star"):
     E = float(scene.material.E)
     sol = solve_sweep(scene, F_STAR * E * AREA)
     ok = sol.ok
     flagged = int((~ok).sum())
-    ax.loglog(sol.load_star[ok], getattr(sol, y)[ok], style, label=label + (f" ({flagged} flagged)" if flagged else ""))
+    line, marker = STYLES[len(ax.lines) % len(STYLES)]
+    ax.loglog(
+        sol.load_star[ok],
+        getattr(sol, y)[ok],
+        linestyle=line,
+        marker=marker,
+        markevery=(len(ax.lines) % 4, 6),
+        ms=4,
+        mfc="none",
+        label=label + (f" ({flagged} flagged)" if flagged else ""),
+    )
     return sol
 
 
-def _finish(ax, fig, path, title, ylabel="K* = K / (E sqrt(A_a))", xlabel="F* = F / (E A_a)"):
-    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+def _finish(ax, fig, path, title, conditions, ylabel="K* = K / (E sqrt(A_a))", xlabel="F* = F / (E A_a)"):
+    ax.set(xlabel=xlabel, ylabel=ylabel)
+    ax.set_title(f"{title}\n{conditions}", fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     return save_figure(fig, path)
@@ -52,6 +74,7 @@ def figure3(out):
         fig,
         out / "fig3_largest_spot.png",
         "Fig. 3: largest spot against load (G* = 1e-8)",
+        _material_line(SEC51),
         ylabel="a_l* = a_l / A_a",
     )
 
@@ -60,14 +83,14 @@ def figure4(out):
     fig, ax = subplots(figsize=(6, 4.2))
     for D in (1.4, 1.45, 1.5, 1.55, 1.6):
         _curve(ax, _scene(D, 1e-8, SEC51), f"D = {D}")
-    return _finish(ax, fig, out / "fig4_stiffness_vs_D.png", "Fig. 4: effect of D (G* = 1e-8)")
+    return _finish(ax, fig, out / "fig4_stiffness_vs_D.png", "Fig. 4: effect of D (G* = 1e-8)", _material_line(SEC51))
 
 
 def figure5(out):
     fig, ax = subplots(figsize=(6, 4.2))
     for G_star in (1e-8, 2e-8, 3e-8, 4e-8, 5e-8):
         _curve(ax, _scene(1.4, G_star, SEC51), f"G* = {G_star:g}")
-    return _finish(ax, fig, out / "fig5_stiffness_vs_G.png", "Fig. 5: effect of G (D = 1.4)")
+    return _finish(ax, fig, out / "fig5_stiffness_vs_G.png", "Fig. 5: effect of G (D = 1.4)", _material_line(SEC51))
 
 
 def figure6(out):
@@ -78,7 +101,13 @@ def figure6(out):
         ("series", "interaction, ω = ξ + σ (series)"),
     ):
         _curve(ax, _scene(1.6, 1e-9, SEC51, interaction=interaction), label)
-    return _finish(ax, fig, out / "fig6_interaction.png", "Fig. 6: with and without interaction (D = 1.6, G* = 1e-9)")
+    return _finish(
+        ax,
+        fig,
+        out / "fig6_interaction.png",
+        "Fig. 6: with and without interaction (D = 1.6, G* = 1e-9)",
+        _material_line(SEC51, "xia2024, MB distribution"),
+    )
 
 
 def figure8(out):
@@ -93,7 +122,13 @@ def figure8(out):
         (dict(model="jzz2010", distribution="wk"), "JZZ 2010 (WK)"),
     ):
         _curve(ax, _scene(TABLE1["D"], G_star, material, **kw), label)
-    return _finish(ax, fig, out / "fig8_models.png", "Fig. 8: comparison of models (Table 1 surface)")
+    return _finish(
+        ax,
+        fig,
+        out / "fig8_models.png",
+        f"Fig. 8: comparison of models (Table 1 surface, D = {TABLE1['D']:g}, G = {TABLE1['G']:g} m)",
+        _material_line(material, "models as labelled"),
+    )
 
 
 def figure_l_min(out):
@@ -109,13 +144,15 @@ def figure_l_min(out):
                 _scene(TABLE1["D"], G_star, material, l_min=l_min), np.array([F_star * TABLE1["E"] * AREA])
             )
             K.append(sol.stiffness_star[0] if sol.status[0] == 0 else np.nan)
-        ax.loglog(l_mins, K, "o-", ms=3, label=f"F* = {F_star:g}")
+        line, marker = STYLES[len(ax.lines) % len(STYLES)]
+        ax.loglog(l_mins, K, linestyle=line, marker=marker, ms=4, mfc="none", label=f"F* = {F_star:g}")
     ax.axvline(1e-9, color="k", ls=":", lw=1, label="default l_min = 1 nm")
     return _finish(
         ax,
         fig,
         out / "l_min_dependence.png",
         "Stiffness against the cutoff l_min (Table 1 surface)",
+        _material_line(material).replace(f", l_min = {L_MIN * 1e9:g} nm", ""),
         ylabel="K*",
         xlabel="l_min (m)",
     )
