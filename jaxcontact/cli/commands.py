@@ -23,6 +23,15 @@ def warn_implausible(spec, command: str) -> list[str]:
     return warnings
 
 
+def progress_bar(enabled: bool, desc: str, unit: str):
+    """`items ↦ items` wrapped in a tqdm bar, or None when progress is off."""
+    if not enabled:
+        return None
+    from tqdm.auto import tqdm
+
+    return lambda items: tqdm(items, desc=desc, unit=unit)
+
+
 def print_result(payload, fmt: str, text: str) -> None:
     from .report import to_json
 

@@ -4,17 +4,13 @@ from __future__ import annotations
 
 import pathlib
 
-from .commands import CommandError, print_result
+from .commands import CommandError, print_result, progress_bar
 
 
 def cmd_figures(args) -> int:
     from ..studies.figures import make_figures
 
-    progress = None
-    if args.progress:
-        from tqdm.auto import tqdm
-
-        progress = lambda items: tqdm(items, desc="figures", unit="figure")  # noqa: E731
+    progress = progress_bar(args.progress, "figures", "figure")
     files = make_figures(args.out, progress=progress)
     print_result({"files": files}, args.format, "\n".join(f"wrote {f}" for f in files))
     return 0
@@ -27,11 +23,7 @@ def cmd_bench(args) -> int:
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)
-    progress = None
-    if args.progress:
-        from tqdm.auto import tqdm
-
-        progress = lambda steps: tqdm(steps, desc="benchmarks", unit="step")  # noqa: E731
+    progress = progress_bar(args.progress, "benchmarks", "step")
     results = run_all(spec.scene, progress=progress)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -60,11 +52,7 @@ def cmd_accuracy(args) -> int:
     options = spec.scene.model.options()
     if options["model"] != "xia2024" or options["distribution"] != "mb":
         raise CommandError("the accuracy study needs a scene with model 'xia2024' and distribution 'mb'")
-    progress = None
-    if args.progress:
-        from tqdm.auto import tqdm
-
-        progress = lambda items: tqdm(items, desc="knobs", unit="knob")  # noqa: E731
+    progress = progress_bar(args.progress, "knobs", "knob")
     result = study(spec.scene, progress=progress)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
