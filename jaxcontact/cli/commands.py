@@ -42,8 +42,8 @@ def cmd_run(args) -> int:
     import numpy as np
 
     from ..applications.chunks import solve_sweep
-    from .plots import flagged_summary, plot_sweep
-    from .report import format_table, record_comments, scene_record, solution_rows, write_csv
+    from .plots import plot_sweep
+    from .report import flagged_summary, format_table, record_comments, scene_record, solution_rows, write_csv
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)

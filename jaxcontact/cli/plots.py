@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from ..core.domain import PARAMETERS
 from ..core.solution import Solution
-from ..core.status import status_message
+from .report import flagged_reasons
 
 
 def subplots(*grid, **kw):
@@ -30,16 +30,6 @@ def save_figure(fig, path) -> str:
     return str(path)
 
 
-def flagged_summary(status) -> str:
-    """How many points are flagged and why, e.g. "3 of 41 loads flagged: 3 interaction_breakdown"."""
-    status = np.asarray(status).reshape(-1)
-    codes, counts = np.unique(status[status != 0], return_counts=True)
-    if not counts.size:
-        return f"0 of {status.size} loads flagged"
-    reasons = ", ".join(f"{n} {status_message(c)}" for c, n in zip(codes, counts))
-    return f"{counts.sum()} of {status.size} loads flagged: {reasons}"
-
-
 def _mark_flagged(ax, F, flagged, status):
     """Flagged loads as ticks along the bottom of the axes, at their loads: never at a made-up value."""
     if flagged.any():
@@ -50,7 +40,7 @@ def _mark_flagged(ax, F, flagged, status):
             ms=12,
             color="C3",
             transform=ax.get_xaxis_transform(),
-            label=flagged_summary(status).split(": ", 1)[1] + " (no value)",
+            label=flagged_reasons(status) + " (no value)",
         )
 
 
@@ -114,7 +104,7 @@ def fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness) -> Figure
     top.loglog(loads, stiffness, "o", ms=4, label="data")
     values = [
         f"{name} = {result.values[name]:.4g} [{result.ci95[name][0]:.4g}, {result.ci95[name][1]:.4g}]"
-        + (f" {PARAMETERS[name].unit}" if PARAMETERS[name].unit else "")
+        + PARAMETERS[name].unit_suffix
         for name in result.params
     ]
     top.loglog(fine_loads, fitted_stiffness, "-", label="fit (95 % CI): " + "; ".join(values))

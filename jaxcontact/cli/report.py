@@ -37,6 +37,22 @@ def solution_rows(solution: Solution) -> list[dict]:
     return rows
 
 
+def flagged_reasons(status) -> str:
+    """Why points are flagged, by count, e.g. "3 interaction_breakdown, 1 load_out_of_range"."""
+    status = np.asarray(status).reshape(-1)
+    codes, counts = np.unique(status[status != 0], return_counts=True)
+    return ", ".join(f"{n} {status_message(c)}" for c, n in zip(codes, counts))
+
+
+def flagged_summary(status) -> str:
+    """How many points are flagged and why, e.g. "3 of 41 loads flagged: 3 interaction_breakdown"."""
+    status = np.asarray(status).reshape(-1)
+    flagged = int(np.sum(status != 0))
+    if not flagged:
+        return f"0 of {status.size} loads flagged"
+    return f"{flagged} of {status.size} loads flagged: {flagged_reasons(status)}"
+
+
 def _cell(value) -> str:
     if isinstance(value, str):
         return value
@@ -101,10 +117,7 @@ def scene_record(spec) -> dict:
 
 def record_comments(record: dict) -> list[str]:
     """`scene_record` as comment lines for a CSV file."""
-    parameters = ", ".join(
-        f"{k} = {v:.10g}" + (f" {PARAMETERS[k].unit}" if PARAMETERS[k].unit else "")
-        for k, v in record["parameters_SI"].items()
-    )
+    parameters = ", ".join(f"{k} = {v:.10g}{PARAMETERS[k].unit_suffix}" for k, v in record["parameters_SI"].items())
     choices = ", ".join(f"{k} = {v}" for k, v in {**record["model"], **record["settings"]}.items())
     return [f"jaxcontact {record['jaxcontact']}: {record['title']} ({record['source']})", parameters, choices]
 

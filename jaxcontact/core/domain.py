@@ -53,6 +53,11 @@ class ParameterSpec:
             meaning=f"{self.meaning}, {self.unit}" if self.unit else self.meaning,
         )
 
+    @property
+    def unit_suffix(self) -> str:
+        """The unit as it follows a printed value (a space, then the unit); empty for a pure number."""
+        return f" {self.unit}" if self.unit else ""
+
     def contains(self, value):
         """Elementwise: whether a (possibly traced) value lies in the valid range."""
         above = (value > self.low) if self.low_open else (value >= self.low)
