@@ -34,6 +34,28 @@ def test_matches_quadrature_of_inverse_stiffness(model):
     assert float(result.approach[2]) == 0.0
 
 
+def test_meets_its_tolerance_across_regime_kinks():
+    """Issue 18.8: near the preload and across the kinks of K(F) where a_l enters a new Kogut–Etsion
+    regime, δ(F) - δ(F0) is within the default rtol (1e-10) of a quadrature of 1/K."""
+    scene = make_scene(D=1.43, G=3.3e-10, E=200e9, nu=0.3, H=5e9, area=1e-4, l_min=2e-9, interaction="series")
+    load_scale = 200e9 * 1e-4  # E A_a
+    F0 = 1e-6 * load_scale
+    loads = np.array([3e-7, 8e-7, 1.6e-6, 3e-6, 1e-5, 3e-5, 1e-4]) * load_scale
+    result = jc.approach(scene, loads, F0)
+    expected = []
+    for F in loads:
+        value, _ = integrate.quad(
+            lambda log_F: np.exp(log_F) / float(jc.solve(scene, np.exp(log_F)).stiffness),
+            np.log(F0),
+            np.log(F),
+            epsrel=1e-12,
+            epsabs=0.0,
+            limit=400,
+        )
+        expected.append(value)
+    np.testing.assert_allclose(result.approach, expected, rtol=1e-10, atol=0.0)
+
+
 def test_monotone_in_load(table1_scene):
     loads = jnp.geomspace(2.2, 2200.0, 31)
     delta = np.asarray(jc.approach(table1_scene, loads, 220.0).approach)

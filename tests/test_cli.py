@@ -364,3 +364,24 @@ def test_run_with_more_loads_than_one_chunk(tmp_path, capsys):
     F = np.array([r["F_N"] for r in rows])
     K = np.asarray(jc.solve(make_scene(**TABLE1), F[[0, 4095, 4096]]).stiffness)
     np.testing.assert_allclose([rows[i]["K_N_per_m"] for i in (0, 4095, 4096)], K, rtol=1e-12)
+
+
+def test_a_modulus_that_overflows_every_load_is_flagged_not_plotted_as_an_error(tmp_path, capsys):
+    """Issue 18.9: E = 1e-300 Pa puts F* beyond float64; the run says so per load and in a warning,
+    and its plots do not fail on a log axis with nothing finite to show."""
+    scene = tmp_path / "tiny_E.toml"
+    scene.write_text(
+        "[surface]\nD = 1.5\nG = 3e-10\n[material]\nE = 1e-300\nnu = 0.3\nH = 4e9\n[joint]\narea = 1e-4\n"
+        "[loads]\nvalues = [1.0, 10.0]\n"
+    )
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--format", "json", "--no-progress"]) == 0
+    captured = capsys.readouterr()
+    assert [row["status"] for row in json.loads(captured.out)["rows"]] == ["invalid_parameters"] * 2
+    assert captured.err.startswith("jaxcontact run: warning: E = 1e-300 Pa is far outside")
+
+
+@pytest.mark.parametrize("starts", ["-3", "0"])
+def test_a_number_of_starts_below_one_is_one_line_with_exit_2(tmp_path, capsys, starts):
+    data = ROOT / "data" / "table1_grinding_generated.csv"
+    assert main(["fit", str(data), "--starts", starts, "--out", str(tmp_path), "--no-progress"]) == 2
+    assert capsys.readouterr().err == f"jaxcontact fit: error: --starts {starts} must be an integer in [1, 1024]\n"

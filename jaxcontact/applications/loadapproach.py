@@ -6,8 +6,8 @@ The stiffness is the slope of the load–approach curve, so between a reference 
 
 The absolute approach from zero load diverges for D ≥ 1.5 (K_t → 0 too fast as F → 0), so the
 curve is always relative to a preload. Integrated in dimensionless form, `dδ*/d ln F* = F*/K*`
-with `δ* = δ / sqrt(A_a)`, from the smallest to the largest of the loads and F0 in one adaptive
-Tsit5 solve; differentiable (reverse mode) with respect to every float field of the scene.
+with `δ* = δ / sqrt(A_a)`, by adaptive Tsit5 solves from F0 upwards and downwards;
+differentiable (reverse mode) with respect to every float field of the scene.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
-from ..core.loadcontrol import point_solver, prepare
+from ..core.loadcontrol import kink_log_loads, point_solver, prepare
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
@@ -47,33 +47,44 @@ def _approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int):
     def stiffness_star(log_F_star):
         return one_point(jnp.exp(log_F_star)).stiffness_star
 
-    def slope(t, y, args):
-        return jnp.exp(t) / stiffness_star(t)  # dδ*/d ln F*
-
     point_status = jax.vmap(lambda t: one_point(jnp.exp(t)).status)(log_F)
     reference = one_point(jnp.exp(log_F0))
-    # Flagged loads sit at the preload during the solve (and are masked after it), so that the
-    # path only spans valid loads: one bad point must not stop the integration for the others.
-    ts = jnp.concatenate([jnp.where(point_status == Status.OK, log_F, log_F0), log_F0[None]])
-    order = jnp.argsort(ts)
-    ts_sorted = ts[order]
     scale = jnp.exp(log_F0) / reference.stiffness_star  # δ* per unit ln F* near the preload
     scale = jnp.where(jnp.isfinite(scale), scale, 1.0)
-    sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(slope),
-        diffrax.Tsit5(),
-        t0=ts_sorted[0],
-        t1=ts_sorted[-1],
-        dt0=None,
-        y0=jnp.zeros_like(log_F0),
-        saveat=diffrax.SaveAt(ts=ts_sorted),
-        stepsize_controller=diffrax.PIDController(rtol=rtol, atol=1e-3 * rtol * scale),
-        max_steps=max_steps,
-        throw=False,
-    )
-    delta_sorted = jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys, jnp.nan)
-    delta = jnp.zeros_like(ts).at[order].set(delta_sorted)
-    delta = (delta[:-1] - delta[-1]) * scales.length
+    # Integrated outward from the preload, once upwards and once downwards: starting at the
+    # smallest load instead would make δ(F) - δ(F0) the difference of two larger, equally
+    # uncertain integrals, and lose the tolerance to cancellation for loads near F0. Flagged
+    # loads sit at the preload (distance 0) and are masked after the solve, so that the path
+    # only spans valid loads: one bad point must not stop the integration for the others.
+    offsets = jnp.where(point_status == Status.OK, log_F - log_F0, 0.0)
+
+    def branch(direction):
+        def slope(tau, y, args):
+            return direction * jnp.exp(log_F0 + direction * tau) / stiffness_star(log_F0 + direction * tau)
+
+        distance = jnp.maximum(direction * offsets, 0.0)
+        # A step across a kink of K(F) (a_l crossing a regime boundary) loses Tsit5's order and
+        # its error estimate; stepping to each kink keeps the solve within its tolerance.
+        kinks = direction * (kink_log_loads(scene) - log_F0)
+        kinks = jnp.where(jnp.isfinite(kinks) & (kinks > 0), kinks, -1.0)
+        order = jnp.argsort(distance)
+        sol = diffrax.diffeqsolve(
+            diffrax.ODETerm(slope),
+            diffrax.Tsit5(),
+            t0=jnp.zeros_like(log_F0),
+            t1=distance[order[-1]],
+            dt0=None,
+            y0=jnp.zeros_like(log_F0),
+            saveat=diffrax.SaveAt(ts=distance[order]),
+            stepsize_controller=diffrax.PIDController(rtol=0.1 * rtol, atol=1e-4 * rtol * scale, jump_ts=kinks),
+            max_steps=max_steps,
+            throw=False,
+        )
+        delta_sorted = jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys, jnp.nan)
+        return jnp.zeros_like(distance).at[order].set(delta_sorted)
+
+    upward, downward = jax.vmap(branch)(jnp.array([1.0, -1.0], log_F.dtype))
+    delta = jnp.where(offsets >= 0, upward, downward) * scales.length
     status = jnp.where(point_status != Status.OK, point_status, reference.status)
     status = jnp.where((status == Status.OK) & ~jnp.isfinite(delta), Status.NOT_CONVERGED, status)
     delta = jnp.where(status == Status.OK, delta, jnp.nan)
@@ -95,7 +106,9 @@ def approach(
     - `scene`: the joint and the model choices.
     - `loads`: loads F (N), any shape; they may lie above or below the preload.
     - `reference_load`: the preload F0 (N) at which the approach is zero.
-    - `rtol`: relative tolerance of the adaptive ODE solve (default 1e-10 in float64, 1e-5 in float32).
+    - `rtol`: relative accuracy asked of each δ(F) − δ(F0) (default 1e-10 in float64, 1e-5 in
+      float32). The adaptive solve controls its local error at `rtol / 10`, because the global
+      error of a local-error controller grows to a few times its tolerance.
     - `max_steps`: cap on ODE steps.
 
     **Returns:** an `Approach`; `approach[i] = δ(F_i) − δ(F0)` in metres (negative below F0).

@@ -85,6 +85,12 @@ def point_solver(scene: Scene):
     return one_point
 
 
+def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
+    """`ln F*` where K(F) has a kink (the model's `kink_log_loads`), for integrators of K(F)."""
+    scene, _ = within_domain(scene)
+    return scene.model.kink_log_loads(nondimensionalise(scene))
+
+
 @eqx.filter_jit
 def _solve(scene: Scene, loads):
     # The scales too come from the stand-in where the scene is out of its domain (the points are

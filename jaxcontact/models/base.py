@@ -76,6 +76,11 @@ class AbstractContactModel(eqx.Module):
         put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
         """
 
+    def kink_log_loads(self, s: DimensionlessScene) -> Float[Array, " kinks"]:
+        """`ln F*` where the slope of K(F) jumps (none by default); integrators of K(F) step to them."""
+        del s
+        return jnp.zeros((0,))
+
     def options(self) -> dict[str, str]:
         """The model's choices by name, as scene files and reports spell them."""
         return {"model": self.name}
@@ -134,6 +139,10 @@ class AbstractLargestSpotModel(AbstractContactModel):
     @abc.abstractmethod
     def joint(self, s: DimensionlessScene) -> AbstractJoint:
         """The dimensionless joint of this model for the scene's groups `s`."""
+
+    def kink_log_loads(self, s):
+        """Where `a_l` crosses a regime boundary: the loads at the kinks of `F_t` (`AbstractJoint.kinks`)."""
+        return self.joint(s).load_pieces().knot_log_loads[1:-1]
 
     def point_solver(self, s, *, tolerance, max_steps):
         """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (MODEL.md §4).
