@@ -20,6 +20,7 @@ from jaxtyping import Array, ArrayLike, Bool, Float
 from ..models.base import PointResult
 from ..numerics.elementwise import unrolled_sum
 from ..numerics.validate import InputError, concrete
+from . import programs
 from .defaults import table1_values
 from .domain import PARAMETERS, inside_domain, scene_fields
 from .scales import Scales, nondimensionalise
@@ -42,10 +43,17 @@ def _check_loads(loads) -> None:
         )
 
 
-def _working_dtype(scene: Scene, loads):
-    # A weak Python float: float32 unless x64 is on or an input is already float64.
-    leaves = [x for x in jax.tree.leaves((scene, loads)) if eqx.is_array_like(x)]
-    return jnp.result_type(1.0, *[x for x in leaves if not isinstance(x, float)])
+_DTYPES: dict = {}
+
+
+def _working_dtype(leaves, loads):
+    # A weak Python float: float32 unless x64 is on or an input is already float64. Cached by the
+    # inputs' dtypes, as jnp.result_type costs more than the rest of an eager call's checks.
+    typed = [x for x in (*leaves, loads) if hasattr(x, "dtype")]
+    key = (jax.config.jax_enable_x64, *((x.dtype, getattr(x, "weak_type", False)) for x in typed))
+    if key not in _DTYPES:
+        _DTYPES[key] = jnp.result_type(1.0, *typed)
+    return _DTYPES[key]
 
 
 def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
@@ -91,7 +99,6 @@ def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
     return scene.model.kink_log_loads(nondimensionalise(scene))
 
 
-@eqx.filter_jit
 def _solve(scene: Scene, loads):
     # The scales too come from the stand-in where the scene is out of its domain (the points are
     # flagged by `point_solver`, which is handed the scene as it is).
@@ -140,12 +147,56 @@ def _check_scalar_parameters(scene: Scene) -> None:
             )
 
 
+def _on_host(array: jax.Array) -> bool:
+    # A CPU-resident array reads as numpy without a copy; an accelerator's would need a transfer.
+    return all(device.platform == "cpu" for device in array.devices())
+
+
+# The scene of the last eager call, flattened, checked and cast per working dtype: a user who
+# calls `solve` in a loop on one scene pays for that once. Scenes are immutable, and the strong
+# reference kept here makes the identity test sound. Traced scenes are never kept.
+_last_scene: dict = {}
+
+
+def _scene_leaves(scene: Scene, loads):
+    if _last_scene.get("scene") is not scene:
+        leaves, treedef = jax.tree_util.tree_flatten(scene)
+        if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
+            _check_scalar_parameters(scene)
+        entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={})
+        if any(isinstance(x, jax.core.Tracer) for x in leaves):
+            return _cast(entry, loads)
+        _last_scene.clear()
+        _last_scene.update(entry)
+    return _cast(_last_scene, loads)
+
+
+def _cast(entry: dict, loads):
+    dtype = _working_dtype(entry["leaves"], loads)
+    if dtype not in entry["cast"]:
+        leaves = entry["leaves"]
+        # Leaves already of the working dtype are passed through: no conversion of each.
+        cast = [x if isinstance(x, jax.Array) and x.dtype == dtype else jnp.asarray(x, dtype) for x in leaves]
+        unchanged = all(a is b for a, b in zip(cast, leaves))
+        scene = entry["scene"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], cast)
+        entry["cast"][dtype] = (scene, cast)
+    return dtype, *entry["cast"][dtype], entry["treedef"]
+
+
+def _prepare(scene: Scene, loads):
+    _check_loads(loads)
+    dtype, scene, leaves, treedef = _scene_leaves(scene, loads)
+    if isinstance(loads, jax.core.Tracer) or (isinstance(loads, jax.Array) and not _on_host(loads)):
+        loads = loads if loads.dtype == dtype else loads.astype(dtype)
+    else:  # host arrays go to a jitted program as they are, faster than through jnp.asarray
+        loads = np.asarray(loads, dtype=dtype)
+    return scene, leaves, treedef, loads
+
+
 def prepare(scene: Scene, loads):
     """Check concrete loads and parameters, pick the working dtype, and make every float leaf an array of it."""
-    _check_scalar_parameters(scene)
-    _check_loads(loads)
-    dtype = _working_dtype(scene, loads)
-    return jax.tree.map(lambda x: jnp.asarray(x, dtype), scene), jnp.asarray(loads, dtype)
+    scene, _, _, loads = _prepare(scene, loads)
+    return scene, loads
 
 
 def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
@@ -166,4 +217,5 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
 
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
-    return _solve(*prepare(scene, loads))
+    _, leaves, treedef, loads = _prepare(scene, loads)
+    return programs.call(_solve, leaves, treedef, loads)

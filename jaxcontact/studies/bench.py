@@ -79,19 +79,23 @@ def time_scene(scene: Scene, loads) -> dict:
     return {"compile_s": max(first - seconds, 0.0), "run_s": seconds, "points_per_s": loads.size / seconds}
 
 
-def curve(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
-    """200 loads over F* = 1e-7 … 1e-4: scipy against `jax.jit(solve)`, interleaved.
+def stats(times) -> dict:
+    """Median, 90th percentile and best of a list of times (s)."""
+    times = np.asarray(times)
+    return {"median_s": float(np.median(times)), "p90_s": float(np.percentile(times, 90)), "best_s": float(times.min())}
 
-    Each of `rounds` rounds runs the scipy curve once and each compiled curve `repeats` times;
-    each side's time is its best over all rounds. A curve takes ~0.1 ms compiled, so its best of
-    many repeats is what the machine can do and the scheduler's noise is not. Interleaving puts
-    both sides in the same spells of the machine's speed: on a shared 2-core machine the same
-    compiled call drifts by up to 2x for tens of milliseconds at a time, so many short rounds
-    sample more spells than a few long ones. Three jaxcontact curves are timed: the outputs the
-    scipy baseline computes (a_l, K, A_r and status: like for like, the ratio the target is
-    about), the whole `Solution` (which also carries the regime shares the scene asks for, the
-    loads, E and A_a), and the stiffness alone (what a model that embeds K(F) keeps). XLA drops
-    whatever a jitted function does not return.
+
+def curve(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
+    """200 loads over F* = 1e-7 … 1e-4: scipy against jaxcontact's calls, interleaved.
+
+    Each of `rounds` rounds runs the scipy curve once and each jaxcontact call `repeats` times;
+    every call is timed (synchronously) and reported as median, 90th percentile and best.
+    Interleaving puts all sides in the same spells of the machine's speed (on a shared 2-core
+    machine the same compiled call drifts by up to 2x for tens of milliseconds at a time). The
+    calls: `solve(scene, loads)` as users make it (eager, on the scene as built); the same inside
+    `eqx.filter_jit`; `jax.jit(solve)` on the scene's array leaves (whole `Solution`); the outputs
+    the scipy baseline computes (a_l, K, A_r and status: like for like); and the stiffness alone.
+    XLA drops whatever a jitted function does not return.
     """
     loads = jnp.asarray(np.geomspace(1e-7, 1e-4, 200) * float(Scales.of(scene).load))
     arrays = _arrays(scene)
@@ -100,29 +104,35 @@ def curve(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
         solution = solve(s, F)
         return solution.a_l, solution.stiffness, solution.real_area, solution.status
 
-    runs = {
-        "jaxcontact_s": jax.jit(solve),
-        "jaxcontact_baseline_outputs_s": jax.jit(baseline_outputs),
-        "jaxcontact_stiffness_only_s": jax.jit(lambda s, F: solve(s, F).stiffness),
+    filter_jitted = eqx.filter_jit(lambda s, F: solve(s, F).stiffness)
+    jitted = {
+        "jit": jax.jit(solve),
+        "jit_baseline_outputs": jax.jit(baseline_outputs),
+        "jit_stiffness_only": jax.jit(lambda s, F: solve(s, F).stiffness),
     }
-    for run in runs.values():
-        jax.block_until_ready(run(arrays, loads))
-    best = dict.fromkeys(["scipy_s", *runs], math.inf)
+    calls = {
+        "plain": lambda: solve(scene, loads).stiffness,
+        "filter_jit": lambda: filter_jitted(scene, loads),
+        **{name: (lambda run=run: run(arrays, loads)) for name, run in jitted.items()},
+    }
+    times = {name: [] for name in ("scipy", *calls)}
+    for call in calls.values():
+        jax.block_until_ready(call())
     for _ in range(rounds):
         t = time.perf_counter()
         solve_curve(_baseline(scene), np.asarray(loads))
-        best["scipy_s"] = min(best["scipy_s"], time.perf_counter() - t)
-        for name, run in runs.items():
-            best[name] = min(best[name], best_of(lambda: run(arrays, loads), repeats))
-    return {
-        "points": 200,
-        "rounds": rounds,
-        "repeats": repeats,
-        **best,
-        "speedup": best["scipy_s"] / best["jaxcontact_s"],
-        "speedup_baseline_outputs": best["scipy_s"] / best["jaxcontact_baseline_outputs_s"],
-        "speedup_stiffness_only": best["scipy_s"] / best["jaxcontact_stiffness_only_s"],
-    }
+        times["scipy"].append(time.perf_counter() - t)
+        for name, call in calls.items():
+            for _ in range(repeats):
+                t = time.perf_counter()
+                jax.block_until_ready(call())
+                times[name].append(time.perf_counter() - t)
+    result = {"points": 200, "rounds": rounds, "repeats": repeats, **{k: stats(v) for k, v in times.items()}}
+    scipy = result["scipy"]["median_s"]
+    for name in calls:
+        result[name]["speedup_median"] = scipy / result[name]["median_s"]
+        result[name]["over_jit_median"] = result[name]["median_s"] / result["jit"]["median_s"]
+    return result
 
 
 def _data(scene: Scene, n=30):

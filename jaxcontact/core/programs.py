@@ -1,0 +1,97 @@
+"""One compiled program per static configuration, reused by every eager call.
+
+An eager `jc.solve(scene, loads)` should cost what `jax.jit(solve)` on the scene's array leaves
+costs. Two things stand in the way: `eqx.filter_jit` partitions the whole pytree on every call,
+and XLA compiles a new program for every new length of the load array (seconds, against a
+fraction of a millisecond to run it). So the program is a plain `jax.jit` of the scene's leaves,
+one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
+load arrays are padded to a few bucket lengths: a user who calls with 7, 30 and 200 loads
+compiles the solve twice (32 and 256), and only a cheap slice per length.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+SMALLEST_BUCKET = 32
+
+
+def bucket(size: int) -> int:
+    """The padded length for `size` loads: a single load as it is, else the next power of two ≥ 32."""
+    if size <= 1:
+        return size
+    return max(SMALLEST_BUCKET, 1 << (size - 1).bit_length())
+
+
+class _Program:
+    """`function(tree, loads)` jitted over the tree's leaves, returning its outputs' leaves (and
+    keeping their structure, known once traced), so that an eager call flattens nothing twice."""
+
+    def __init__(self, function, treedef):
+        self.output_tree = None
+
+        def flat(leaves, loads):
+            outputs, self.output_tree = jax.tree_util.tree_flatten(
+                function(jax.tree_util.tree_unflatten(treedef, leaves), loads)
+            )
+            return outputs
+
+        self.flat = jax.jit(flat)
+
+
+@functools.lru_cache(maxsize=64)
+def program(function, treedef) -> _Program:
+    """The cached program of `function` for trees of structure `treedef`."""
+    return _Program(function, treedef)
+
+
+@functools.partial(jax.jit, static_argnums=1)
+def _pad(values, size):
+    flat = values.reshape(-1)
+    return jnp.concatenate([flat, jnp.broadcast_to(flat[-1], (size - flat.size,))])
+
+
+@functools.lru_cache(maxsize=256)
+def _unpad(size: int, shape: tuple[int, ...]):
+    """One jitted cut of the padded per-load outputs back to `shape`, and the per-call outputs
+    reshaped to broadcast against it (one dispatch for all of them)."""
+    count = math.prod(shape)
+
+    def cut(per_load, per_call):
+        per_load = [x[:count].reshape(shape + x.shape[1:]) for x in per_load]
+        return per_load, [x.reshape((1,) * len(shape)) for x in per_call]
+
+    return jax.jit(cut)
+
+
+def call(function, leaves, treedef, loads):
+    """`function(tree, loads)`, for the tree of these leaves, through its cached program; concrete
+    loads padded to a bucket.
+
+    Per-load outputs have a leading axis of the loads' flattened length, and per-call outputs
+    shape `(1,)`; both come back shaped as `function` gives them for `loads` itself. Inside a trace
+    (the caller's own `jit`, `grad` or `vmap`) nothing is padded.
+    """
+    compiled = program(function, treedef)
+    size = bucket(loads.size)
+    if isinstance(loads, jax.core.Tracer) or size == loads.size:
+        outputs = compiled.flat(leaves, loads)
+        return jax.tree_util.tree_unflatten(compiled.output_tree, outputs)
+    if isinstance(loads, np.ndarray):  # on the host already: padded there, for free
+        flat = loads.reshape(-1)
+        padded = np.concatenate([flat, np.full(size - flat.size, flat[-1], flat.dtype)])
+    else:
+        padded = _pad(loads, size)
+    outputs = compiled.flat(leaves, padded)
+    per_load = [i for i, x in enumerate(outputs) if x.ndim and x.shape[0] == size]
+    # Per-call outputs are already shaped (1,) for 1-D loads: passed through untouched.
+    per_call = [i for i in range(len(outputs)) if i not in per_load and loads.ndim != 1]
+    cut_load, cut_call = _unpad(size, loads.shape)([outputs[i] for i in per_load], [outputs[i] for i in per_call])
+    for i, x in zip(per_load + per_call, cut_load + cut_call):
+        outputs[i] = x
+    return jax.tree_util.tree_unflatten(compiled.output_tree, outputs)

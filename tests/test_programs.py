@@ -1,0 +1,45 @@
+"""Eager `jc.solve`: one compiled program per static configuration, load arrays padded to buckets."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact.core import loadcontrol, programs
+
+
+def _compiled_lengths(scene):
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    return programs.program(loadcontrol._solve, treedef).flat._cache_size()
+
+
+def test_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
+    # A configuration no other test uses, so that its program starts with an empty cache.
+    scene = make_scene(**TABLE1, interaction="none", regime_shares=False)
+    for count in (7, 30, 200):
+        jc.solve(scene, np.geomspace(1.0, 1e3, count))
+    assert _compiled_lengths(scene) == 2
+
+
+def test_padded_loads_give_what_an_exact_compilation_gives(table1_scene):
+    loads = jnp.geomspace(2.2, 2200.0, 200)
+    eager = jc.solve(table1_scene, loads)
+    exact = jax.jit(jc.solve)(table1_scene, loads)
+    for name in ("a_l", "stiffness", "real_area", "load_share", "stiffness_share"):
+        # Equal to round-off: XLA vectorises 256 and 200 lanes differently.
+        np.testing.assert_allclose(getattr(eager, name), getattr(exact, name), rtol=1e-14, atol=1e-300, err_msg=name)
+
+
+def test_padded_loads_keep_their_shape(table1_scene):
+    loads = np.geomspace(2.2, 2200.0, 15).reshape(3, 5)
+    solution = jc.solve(table1_scene, loads)
+    assert solution.stiffness.shape == (3, 5)
+    assert solution.load_share.shape == (3, 5, 4)
+    assert solution.modulus.shape == (1, 1)
+    np.testing.assert_array_equal(solution.load, loads)
+
+
+def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):
+    solution = jc.solve(table1_scene, np.array([2.2, 1e12, 22.0]))  # the middle load is beyond full contact
+    assert solution.status.tolist() == [0, jc.Status.LOAD_OUT_OF_RANGE, 0]
