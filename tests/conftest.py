@@ -10,6 +10,13 @@ jax.config.update("jax_enable_x64", True)
 
 import pathlib  # noqa: E402
 
+# One on-disk cache of compiled programs for the session's worker processes: a program that two
+# test files (on two workers) both need is compiled once. A clean clone starts with it empty.
+jax.config.update(
+    "jax_compilation_cache_dir", str(pathlib.Path(__file__).resolve().parents[1] / ".pytest_cache" / "jax")
+)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.3)
+
 import equinox as eqx  # noqa: E402
 import pytest  # noqa: E402
 

@@ -47,9 +47,17 @@ def cmd_run(args) -> int:
     from .scenefile import load_scene
 
     spec = load_scene(args.scene)
+    band = None
+    if getattr(args, "topography", None):
+        from .surface_commands import topography_scene
+
+        spec, band = topography_scene(spec, args)
     warnings = warn_implausible(spec, "run")
     solution = solve_sweep(spec.scene, spec.loads, progress=args.progress and spec.loads.size > 4096)
     rows = solution_rows(solution)
+    if band is not None:
+        for row, lower, upper in zip(rows, band.lower, band.upper):
+            row["K_lower_95_N_per_m"], row["K_upper_95_N_per_m"] = float(lower), float(upper)
     if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
         for row, extra in zip(rows, _approach_rows(spec)):
             row["approach_m"] = extra["approach_m"]
@@ -58,6 +66,10 @@ def cmd_run(args) -> int:
     record = scene_record(spec)
     write_csv(rows, out / "results.csv", comments=record_comments(record))
     files = [str(out / "results.csv")] + plot_sweep(solution, spec.title, out)
+    if band is not None:
+        from .surface_commands import plot_band
+
+        files.append(plot_band(band, spec.title, out / "stiffness_band.png"))
     choices = ", ".join(f"{k} {v!r}" for k, v in spec.scene.model.options().items())
     flagged = flagged_summary(solution.status)
     plastic = int(np.sum(solution.fully_plastic))

@@ -16,6 +16,7 @@ import traceback
 from ..numerics.validate import InputError
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
+from .surface_commands import add_topography_options, cmd_surface
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
@@ -93,9 +94,16 @@ def build_parser() -> argparse.ArgumentParser:
         p.set_defaults(func=func)
         return p
 
-    scene_command(
+    p = scene_command(
         "run", "solve a scene (default: the embedded Table 1 scene), write CSV and plots", cmd_run, "jaxcontact-out"
     )
+    p.add_argument("--topography", help="a measured surface file: D, G, l_min from it, K(F) with its 95 %% band")
+    add_topography_options(p)
+    p = sub.add_parser("surface", help="D, G (both conventions) and l_min of a measured surface, with intervals")
+    p.add_argument("file", help="topography file (any format SurfaceTopography reads)")
+    add_topography_options(p)
+    common(p, "jaxcontact-out/surface")
+    p.set_defaults(func=cmd_surface)
     scene_command(
         "approach",
         "load–approach curve relative to a preload (scenes with [approach])",

@@ -1,0 +1,185 @@
+"""Topography → D, G, l_min (MODEL.md §8) on synthetic surfaces of known truth, and real files."""
+
+import json
+import math
+
+import equinox as eqx
+import numpy as np
+import pytest
+from conftest import ROOT, make_scene
+
+import jaxcontact as jc
+from jaxcontact import topography as tp
+from jaxcontact.cli import main
+
+G_TRUE = 1e-10
+SIZE = 1e-3
+TOPOGRAPHIES = ROOT.parent / "shared" / "data" / "topographies"
+needs_topographies = pytest.mark.skipif(
+    not TOPOGRAPHIES.is_dir(),
+    reason=f"{TOPOGRAPHIES} is absent: the real instrument files live beside the project in ../shared/data "
+    "(present in CI), never in it",
+)
+
+
+@pytest.fixture(scope="module")
+def maps():
+    return {(D, seed): tp.areal_map(D, G_TRUE, SIZE, 1024, seed=seed) for D in (1.2, 1.5, 1.8) for seed in (0, 1)}
+
+
+@pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_D_of_an_areal_map(maps, D, seed):
+    assert abs(tp.characterise(maps[D, seed]).D - D) < 0.03
+
+
+@pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_D_of_a_profile(D, seed):
+    profile = tp.random_profile(D, G_TRUE, SIZE, 100_000, seed=seed)
+    assert abs(tp.characterise(profile).D - D) < 0.03
+
+
+@pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
+def test_amplitude_with_D_held_at_the_truth(maps, D):
+    for seed in (0, 1):
+        ratio = tp.characterise(maps[D, seed], D=D).G / G_TRUE
+        assert 1 / 1.3 < ratio < 1.3
+    profile = tp.random_profile(D, G_TRUE, SIZE, 100_000, seed=0)
+    assert 1 / 1.3 < tp.characterise(profile, D=D).G / G_TRUE < 1.3
+
+
+def test_the_joint_95_percent_region_covers_the_truth():
+    """20 seeds of a 1024² map at D = 1.5: the (D, ln G) region from the scatter between tiles."""
+    covered = sum(
+        tp.characterise(tp.areal_map(1.5, G_TRUE, SIZE, 1024, seed=100 + s)).covers(1.5, G_TRUE) for s in range(20)
+    )
+    assert covered >= 17
+
+
+def test_D_and_ln_G_are_strongly_correlated_and_it_is_reported(maps):
+    # G is extrapolated from the band (q ~ 1e5-1e6 rad/m) to q = 1 rad/m: a steeper fit lowers it.
+    assert tp.characterise(maps[1.5, 0]).correlation > 0.8
+
+
+def test_line_scans_of_an_areal_map_have_the_profile_psd_of_model_md():
+    """The mean line-scan PSD of synthesised maps matches C1D = K1 q^-(5-2D) within 5 %."""
+    D = 1.5
+    ratios = []
+    for seed in range(4):
+        q, C = tp.areal_map(D, G_TRUE, SIZE, 512, seed=seed).power_spectrum_from_profile(resampling_method=None)
+        band = (q > 0.01 * np.pi * 512 / SIZE) & (q < 0.1 * np.pi * 512 / SIZE)
+        ratios.append(np.mean(C[band] / (tp.profile_prefactor(D, G_TRUE) * q[band] ** -(5 - 2 * D))))
+    assert abs(np.mean(ratios) - 1) < 0.05
+
+
+@pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
+def test_the_G_converter_round_trips(D):
+    there = tp.convert_G(3e-10, D, "wm", "structure-function")
+    assert math.isclose(tp.convert_G(there, D, "structure-function", "wm"), 3e-10, rel_tol=1e-14)
+
+
+def test_the_G_converter_is_model_md_factor():
+    assert math.isclose(tp.convert_G(1.0, 1.5), 2 * math.pi, rel_tol=1e-14)  # ×6.28 at D = 1.5 (§8)
+
+
+@pytest.mark.parametrize("D", [1.5, 1.7])
+def test_the_structure_function_of_a_wm_profile_gives_the_converted_G(D):
+    """The structure-function method (quoted constant) on a W-M profile returns G_sf = convert_G(G)."""
+    profile = tp.wm_profile(D, G_TRUE, SIZE, 100_000, seed=1)
+    found = tp.characterise(profile, method="structure-function", D=D).G_structure_function
+    assert abs(found / tp.convert_G(G_TRUE, D) - 1) < 0.1
+
+
+@pytest.mark.parametrize("kind", ["profile", "map"])
+def test_the_two_methods_agree_on_D(maps, kind):
+    surface = tp.random_profile(1.5, G_TRUE, SIZE, 100_000, seed=0) if kind == "profile" else maps[1.5, 0]
+    psd = tp.characterise(surface)
+    sf = tp.characterise(surface, method="structure-function")
+    assert abs(psd.D - sf.D) < 0.03
+
+
+def test_the_periodogram_is_surfacetopographys():
+    profile = tp.random_profile(1.5, G_TRUE, SIZE, 4096, seed=0)  # periodic: no window on either side
+    q_ref, C_ref = profile.power_spectrum_from_profile(resampling_method=None)
+    q, C = tp.spectra.periodograms(profile.heights()[None, :], SIZE / 4096, periodic=True)
+    np.testing.assert_allclose(C[0], C_ref[1 : 1 + q.size], rtol=1e-10)
+
+
+def test_stiffness_at_the_truth_lies_in_the_reported_band():
+    """K(F) from the characterised map, with the band from (D, G)'s covariance, covers K at the truth."""
+    D, G = 1.5, 1e-9
+    c = tp.characterise(tp.areal_map(D, G, 1e-5, 1024, seed=7))
+    scene = make_scene(D=1.4, G=1e-10, E=220e9, nu=0.25, H=100e9, area=1e-4, l_min=1e-9, interaction="none")
+    loads = np.geomspace(1e-1, 1e2, 4)
+    band = tp.stiffness_band(c, scene, loads)
+    truth = jc.solve(eqx.tree_at(lambda s: s.surface, scene, jc.Surface(D=D, G=G, l_min=c.l_min)), loads).stiffness
+    assert np.all(band.status == 0)
+    assert np.all(np.asarray(truth) > 0)
+    assert np.all((band.lower <= truth) & (truth <= band.upper))
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: tp.read("nowhere.dat"), "does not exist"),
+        (lambda: tp.read(__file__, tip_radius=-1e-6), "tip_radius = -1e-06 m must be finite and > 0"),
+        (lambda: tp.characterise(tp.random_profile(1.5, G_TRUE, SIZE, 64)), "too small for any power-law band"),
+        (lambda: tp.characterise(tp.random_profile(1.5, G_TRUE, SIZE, 4096), band=(1e-9, 1e-3)), "outside the data"),
+        (lambda: tp.convert_G(1e-10, 2.5), "D = 2.5 is outside"),
+        (lambda: tp.convert_G(1e-10, 1.5, "wm", "sf"), "target = 'sf' is not a G convention"),
+    ],
+)
+def test_bad_input_names_the_problem(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def _cli_one_line(capsys, argv):
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    return code, err
+
+
+def test_an_unreadable_file_is_one_line_with_exit_2(tmp_path, capsys):
+    bad = tmp_path / "noise.xyz"
+    bad.write_bytes(b"\x00\x01 not a topography")
+    code, err = _cli_one_line(capsys, ["surface", str(bad), "--out", str(tmp_path)])
+    assert code == 2
+    assert err.startswith(f"jaxcontact surface: error: topography file {str(bad)!r} cannot be read")
+
+
+def test_a_file_with_missing_points_is_refused_unless_asked_to_fill(tmp_path, capsys):
+    data = tmp_path / "map.txt"  # a plain matrix of heights: the size comes from the command line
+    z = tp.areal_map(1.5, G_TRUE, SIZE, 512, seed=0).heights()
+    z[3, 5] = np.nan
+    np.savetxt(data, z)
+    argv = ["surface", str(data), "--out", str(tmp_path), "--size", "1e-3", "1e-3"]
+    code, err = _cli_one_line(capsys, argv)
+    assert code == 2
+    assert "undefined (NaN or missing) points" in err
+    assert main([*argv, "--fill-undefined"]) == 0
+
+
+@needs_topographies
+@pytest.mark.parametrize("name", sorted(p.name for p in TOPOGRAPHIES.glob("*")) if TOPOGRAPHIES.is_dir() else [])
+def test_every_real_file_gives_a_result_or_one_line(tmp_path, capsys, name):
+    code = main(["surface", str(TOPOGRAPHIES / name), "--out", str(tmp_path), "--format", "json"])
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err
+    if code == 0:
+        payload = json.loads(captured.out)
+        assert 1 < payload["psd"]["D"] < 2
+        assert (tmp_path / "surface.toml").is_file()
+    else:
+        assert code == 2
+        assert len(captured.err.strip().splitlines()) == 1
+
+
+@needs_topographies
+def test_a_stylus_profile_becomes_a_scene_that_run_takes(tmp_path, capsys):
+    assert main(["surface", str(TOPOGRAPHIES / "dektak-1.csv"), "--out", str(tmp_path / "s")]) == 0
+    capsys.readouterr()
+    assert main(["run", str(tmp_path / "s" / "surface.toml"), "--out", str(tmp_path / "r"), "--no-progress"]) == 0
+    assert (tmp_path / "r" / "results.csv").is_file()
