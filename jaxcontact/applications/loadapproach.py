@@ -58,32 +58,40 @@ def _approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int):
     # only spans valid loads: one bad point must not stop the integration for the others.
     offsets = jnp.where(point_status == Status.OK, log_F - log_F0, 0.0)
 
-    def branch(direction):
-        def slope(tau, y, args):
-            return direction * jnp.exp(log_F0 + direction * tau) / stiffness_star(log_F0 + direction * tau)
+    directions = jnp.array([1.0, -1.0], log_F.dtype)
+    distance = jnp.maximum(directions[:, None] * offsets[None, :], 0.0)  # (branch, load)
+    reach = distance.max(axis=1)
 
-        distance = jnp.maximum(direction * offsets, 0.0)
-        # A step across a kink of K(F) (a_l crossing a regime boundary) loses Tsit5's order and
-        # its error estimate; stepping to each kink keeps the solve within its tolerance.
-        kinks = direction * (kink_log_loads(scene) - log_F0)
-        kinks = jnp.where(jnp.isfinite(kinks) & (kinks > 0), kinks, -1.0)
-        order = jnp.argsort(distance)
-        sol = diffrax.diffeqsolve(
-            diffrax.ODETerm(slope),
-            diffrax.Tsit5(),
-            t0=jnp.zeros_like(log_F0),
-            t1=distance[order[-1]],
-            dt0=None,
-            y0=jnp.zeros_like(log_F0),
-            saveat=diffrax.SaveAt(ts=distance[order]),
-            stepsize_controller=diffrax.PIDController(rtol=0.1 * rtol, atol=1e-4 * rtol * scale, jump_ts=kinks),
-            max_steps=max_steps,
-            throw=False,
-        )
-        delta_sorted = jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys, jnp.nan)
-        return jnp.zeros_like(distance).at[order].set(delta_sorted)
+    def slope(tau, y, args):
+        # Both branches in one solve (one compiled ODE, not a vmapped pair); each stops at its
+        # farthest load, where its slope drops to zero (a jump the controller steps to).
+        inside = tau <= reach
+        log_F_star = log_F0 + directions * jnp.minimum(tau, reach)
+        return jnp.where(inside, directions * jnp.exp(log_F_star) / jax.vmap(stiffness_star)(log_F_star), 0.0)
 
-    upward, downward = jax.vmap(branch)(jnp.array([1.0, -1.0], log_F.dtype))
+    # A step across a kink of K(F) (a_l crossing a regime boundary) loses Tsit5's order and its
+    # error estimate; stepping to each kink keeps the solve within its tolerance.
+    kinks = directions[:, None] * (kink_log_loads(scene)[None, :] - log_F0)
+    kinks = jnp.where(jnp.isfinite(kinks) & (kinks > 0), kinks, -1.0)
+    times = distance.reshape(-1)
+    order = jnp.argsort(times)
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(slope),
+        diffrax.Tsit5(),
+        t0=jnp.zeros_like(log_F0),
+        t1=reach.max(),
+        dt0=None,
+        y0=jnp.zeros_like(directions),
+        saveat=diffrax.SaveAt(ts=times[order]),
+        stepsize_controller=diffrax.PIDController(
+            rtol=0.1 * rtol, atol=1e-4 * rtol * scale, jump_ts=jnp.sort(jnp.concatenate([kinks.reshape(-1), reach]))
+        ),
+        max_steps=max_steps,
+        throw=False,
+    )
+    saved = jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys, jnp.nan)  # (time, branch)
+    by_time = jnp.zeros_like(saved).at[order].set(saved).reshape(2, -1, 2)  # (branch of the time, load, branch)
+    upward, downward = by_time[0, :, 0], by_time[1, :, 1]
     delta = jnp.where(offsets >= 0, upward, downward) * scales.length
     status = jnp.where(point_status != Status.OK, point_status, reference.status)
     status = jnp.where((status == Status.OK) & ~jnp.isfinite(delta), Status.NOT_CONVERGED, status)
