@@ -68,6 +68,14 @@ def table1_scene():
     return make_scene(**TABLE1)
 
 
+@pytest.fixture(scope="session")
+def table1_without_interaction():
+    """The Table 1 scene without interaction: for gradients through diffrax, whose reverse-mode
+    compile with the "paper" interaction inside costs a minute (the interaction's own gradients
+    are checked against finite differences in test_gradients.py)."""
+    return make_scene(**TABLE1, interaction="none")
+
+
 # Module-level jitted helpers, so that joints of one structure share a compile: run eagerly,
 # each of the hundreds of operations in a joint's integrals would be compiled on its own.
 @eqx.filter_jit

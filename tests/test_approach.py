@@ -63,7 +63,9 @@ def test_monotone_in_load(table1_scene):
     assert delta[0] < 0 < delta[-1]
 
 
-def test_gradients_match_finite_differences(table1_scene):
+def test_gradients_match_finite_differences(table1_without_interaction):
+    table1_scene = table1_without_interaction
+
     # The scene is an argument, as equinox passes modules: its arrays are traced, not constants.
     @jax.jit
     def delta(theta, scene):

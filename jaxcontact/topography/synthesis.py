@@ -42,6 +42,26 @@ def wm_profile(D, G, length, points, *, l_min=None, seed=0):
     return UniformLineScan(heights, length, periodic=False, unit="m")
 
 
+def _fourier(D, G, size_name, size, grid, l_min, seed, prefactor):
+    """SurfaceTopography's Fourier synthesis of a self-affine surface, `grid` points per side."""
+    from SurfaceTopography.Generation import fourier_synthesis
+
+    D = float(_check_D(D))
+    for name, value in (("G", G), (size_name, size)):
+        _check_positive(name, value)
+    if l_min is not None:
+        _check_positive("l_min", l_min)
+    return fourier_synthesis(
+        grid,
+        (size,) * len(grid),
+        hurst=2.0 - D,
+        c0=float(prefactor(D, G)),
+        short_cutoff=l_min,
+        rng=np.random.default_rng(seed),
+        unit="m",
+    )
+
+
 def areal_map(D, G, size, grid, *, l_min=None, seed=0):
     """An isotropic, periodic self-affine map with `C2D = C0 q^-(6-2D)` (MODEL.md §8): its line
     scans have the PSD of the W-M profile with this D and G. SurfaceTopography's Fourier
@@ -50,22 +70,7 @@ def areal_map(D, G, size, grid, *, l_min=None, seed=0):
     **Arguments:** `D`, `G` (m, W-M), `size` (m, square), `grid` (points per side), `l_min` (m),
     `seed`. **Returns:** a periodic `SurfaceTopography.Topography` in metres.
     """
-    from SurfaceTopography.Generation import fourier_synthesis
-
-    D = float(_check_D(D))
-    for name, value in (("G", G), ("size", size)):
-        _check_positive(name, value)
-    if l_min is not None:
-        _check_positive("l_min", l_min)
-    return fourier_synthesis(
-        (grid, grid),
-        (size, size),
-        hurst=2.0 - D,
-        c0=float(areal_prefactor(D, G)),
-        short_cutoff=l_min,
-        rng=np.random.default_rng(seed),
-        unit="m",
-    )
+    return _fourier(D, G, "size", size, (grid, grid), l_min, seed, areal_prefactor)
 
 
 def random_profile(D, G, length, points, *, l_min=None, seed=0):
@@ -75,19 +80,4 @@ def random_profile(D, G, length, points, *, l_min=None, seed=0):
 
     **Arguments:** as `wm_profile`. **Returns:** a `SurfaceTopography.UniformLineScan` in metres.
     """
-    from SurfaceTopography.Generation import fourier_synthesis
-
-    D = float(_check_D(D))
-    for name, value in (("G", G), ("length", length)):
-        _check_positive(name, value)
-    if l_min is not None:
-        _check_positive("l_min", l_min)
-    return fourier_synthesis(
-        (points,),
-        (length,),
-        hurst=2.0 - D,
-        c0=float(profile_prefactor(D, G)),
-        short_cutoff=l_min,
-        rng=np.random.default_rng(seed),
-        unit="m",
-    )
+    return _fourier(D, G, "length", length, (points,), l_min, seed, profile_prefactor)
