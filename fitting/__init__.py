@@ -1,6 +1,6 @@
 """fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
 
-`fit(loads, stiffness, scene, params=("D", "G"), method="lbfgs")` returns a `FitResult` with
+`fit(loads, stiffness, scene, params=("D", "G"), method="bfgs")` returns a `FitResult` with
 estimates, standard errors, 95 % intervals, correlations and identifiability warnings.
 """
 

@@ -45,14 +45,14 @@ def test_noiseless_recovery(model, interaction, D, G):
     np.testing.assert_allclose([result.values["D"], result.values["G"]], [D, G], rtol=1e-6)
 
 
-def test_lbfgs_and_lm_agree_on_noisy_data(table1):
+def test_bfgs_and_lm_agree_on_noisy_data(table1):
     loads, K = table1_generated(table1)
-    lbfgs = fitting.fit(loads, K, make_scene(**START), method="lbfgs")
+    bfgs = fitting.fit(loads, K, make_scene(**START), method="bfgs")
     lm = fitting.fit(loads, K, make_scene(**START), method="lm")
-    assert lbfgs.success
+    assert bfgs.success
     assert lm.success
-    np.testing.assert_allclose(lbfgs.values["D"], lm.values["D"], rtol=1e-7)
-    np.testing.assert_allclose(lbfgs.values["G"], lm.values["G"], rtol=1e-5)
+    np.testing.assert_allclose(bfgs.values["D"], lm.values["D"], rtol=1e-7)
+    np.testing.assert_allclose(bfgs.values["G"], lm.values["G"], rtol=1e-5)
 
 
 def test_a_single_lm_start_converges(table1):
@@ -155,8 +155,10 @@ def test_result_is_complete_and_serialisable(table1):
     # The curve is padded to 64 points with copies of its first point: they must weigh nothing.
     np.testing.assert_allclose(result.loss, 0.5 * np.mean(result.residuals**2), rtol=1e-12)
     reversed_ = fitting.fit(loads[::-1], K[::-1], make_scene(**START))
+    # To the optimiser's precision along the ill-conditioned D–G valley (its tolerance is 1e-12 on
+    # the loss and the step; G's relative uncertainty here is ~1e-1).
     np.testing.assert_allclose(
-        [reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]], rtol=1e-9
+        [reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]], rtol=1e-8
     )
     json.dumps(result.to_dict())
     assert isinstance(result.scene, jc.Scene)
@@ -271,3 +273,8 @@ def test_a_curve_made_by_another_model_is_called_a_misfit(table1):
     result = fitting.fit(loads, K, make_scene(**START))
     misfits = [w for w in result.warnings if "the model does not describe these data" in w]
     assert len(misfits) == 1, result.summary()
+
+
+def test_lbfgs_is_an_alias_of_bfgs(table1):
+    loads, K = table1_generated(table1)
+    assert fitting.fit(loads, K, make_scene(**START), method="lbfgs").method == "bfgs"

@@ -127,7 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("data", help="CSV with columns load_N,stiffness_N_per_m (or F_star,K_star)")
     p.add_argument("--scene", help="scene TOML supplying the parameters that are not fitted (default: embedded)")
     p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
-    p.add_argument("--method", choices=("lbfgs", "lm"), default="lbfgs", help="optimiser (default: lbfgs)")
+    p.add_argument("--method", choices=("bfgs", "lbfgs", "lm"), default="bfgs", help="optimiser (default: bfgs)")
     p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
