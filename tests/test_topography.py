@@ -183,3 +183,15 @@ def test_a_stylus_profile_becomes_a_scene_that_run_takes(tmp_path, capsys):
     capsys.readouterr()
     assert main(["run", str(tmp_path / "s" / "surface.toml"), "--out", str(tmp_path / "r"), "--no-progress"]) == 0
     assert (tmp_path / "r" / "results.csv").is_file()
+
+
+def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(tmp_path, capsys):
+    data = tmp_path / "map.txt"
+    np.savetxt(data, tp.areal_map(1.5, 1e-9, 1e-5, 512, seed=2).heights())
+    argv = ["run", "--topography", str(data), "--size", "1e-5", "1e-5", "--out", str(tmp_path / "o")]
+    assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    rows = [row for row in json.loads(capsys.readouterr().out)["rows"] if row["status"] == "ok"]
+    positive = [row for row in rows if row["K_N_per_m"] > 0]
+    assert len(positive) > 10
+    assert all(row["K_lower_95_N_per_m"] < row["K_N_per_m"] < row["K_upper_95_N_per_m"] for row in positive)
+    assert (tmp_path / "o" / "stiffness_band.png").is_file()
