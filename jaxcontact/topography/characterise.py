@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy import special, stats
 
-from ..numerics.validate import InputError
+from ..numerics.validate import InputError, check_choice
 from . import spectra
 from .conventions import convert_G, log_G_from_profile_prefactor, structure_function_constant
 
@@ -131,8 +131,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     **Returns:** a `Characterisation`. **Raises:** `ValueError` naming the bad argument, or
     saying why no power law can be fitted (band outside the data, profile too short).
     """
-    if method not in METHODS:
-        raise InputError(f"method = {method!r} is not one of {', '.join(METHODS)}")
+    check_choice("method", method, METHODS)
     rows, dx, length, periodic, kind = _rows(topography)
     blocks = _groups(rows, groups, kind, method)
     periodic = periodic and len(blocks) == 1

@@ -18,17 +18,22 @@ import math
 import numpy as np
 from scipy import special
 
-from ..numerics.validate import InputError
+from ..numerics.validate import InputError, check_range
 
 GAMMA = 1.5
 CONVENTIONS = ("wm", "structure-function")
 
 
-def _check_D(D):
-    D = np.asarray(D, dtype=float)
-    if np.any(~((D > 1.0) & (D < 2.0))):
-        raise InputError(f"D = {D} is outside the profile fractal dimension's range (1, 2)")
-    return D
+def check_D(D):
+    """D as a float array, after checking it lies in (1, 2)."""
+    check_range("D", D, 1.0, 2.0)
+    return np.asarray(D, dtype=float)
+
+
+def check_positive(name, value, unit="m"):
+    """Raise `InputError` naming `name` unless `value` (if given) is finite and > 0."""
+    if value is not None and not (np.all(np.isfinite(value)) and np.all(np.asarray(value) > 0)):
+        raise InputError(f"{name} = {value!r} {unit} must be finite and > 0 (valid range (0, inf) {unit})")
 
 
 def convert_G(G, D, source: str = "wm", target: str = "structure-function"):
@@ -40,10 +45,9 @@ def convert_G(G, D, source: str = "wm", target: str = "structure-function"):
     for name, value in (("source", source), ("target", target)):
         if value not in CONVENTIONS:
             raise InputError(f"{name} = {value!r} is not a G convention; valid: {', '.join(CONVENTIONS)}")
-    D = _check_D(D)
+    D = check_D(D)
+    check_positive("G", G)
     G = np.asarray(G, dtype=float)
-    if np.any(~(G > 0)):
-        raise InputError(f"G = {G} m must be > 0 (valid range (0, inf) m)")
     factor = (2.0 * math.pi) ** ((2.0 - D) / (D - 1.0))
     if source == target:
         return G

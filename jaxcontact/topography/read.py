@@ -8,11 +8,7 @@ import pathlib
 import numpy as np
 
 from ..numerics.validate import InputError
-
-
-def _positive(name, value, unit="m"):
-    if value is not None and not (np.all(np.isfinite(value)) and np.all(np.asarray(value) > 0)):
-        raise InputError(f"{name} = {value!r} {unit} must be finite and > 0 (valid range (0, inf) {unit})")
+from .conventions import check_positive
 
 
 def read(path, *, size=None, tip_radius=None, fill_undefined: bool = False):
@@ -35,8 +31,8 @@ def read(path, *, size=None, tip_radius=None, fill_undefined: bool = False):
     """
     import SurfaceTopography
 
-    _positive("tip_radius", tip_radius)
-    _positive("size", size)
+    check_positive("tip_radius", tip_radius)
+    check_positive("size", size)
     path = pathlib.Path(path)
     if not path.is_file():
         raise InputError(f"topography file {str(path)!r} {'is a directory' if path.is_dir() else 'does not exist'}")

@@ -6,13 +6,7 @@ import math
 
 import numpy as np
 
-from ..numerics.validate import InputError
-from .conventions import GAMMA, _check_D, areal_prefactor, profile_prefactor
-
-
-def _check_positive(name, value, unit="m"):
-    if not (np.isfinite(value) and value > 0):
-        raise InputError(f"{name} = {value!r} {unit} must be finite and > 0 (valid range (0, inf) {unit})")
+from .conventions import GAMMA, areal_prefactor, check_D, check_positive, profile_prefactor
 
 
 def wm_profile(D, G, length, points, *, l_min=None, seed=0):
@@ -26,12 +20,12 @@ def wm_profile(D, G, length, points, *, l_min=None, seed=0):
     """
     from SurfaceTopography import UniformLineScan
 
-    D = float(_check_D(D))
+    D = float(check_D(D))
     for name, value in (("G", G), ("length", length)):
-        _check_positive(name, value)
+        check_positive(name, value)
     if l_min is None:
         l_min = 2.0 * length / points
-    _check_positive("l_min", l_min)
+    check_positive("l_min", l_min)
     x = np.arange(points) * (length / points)
     n = np.arange(math.ceil(math.log(1.0 / length, GAMMA)), math.floor(math.log(1.0 / l_min, GAMMA)) + 1)
     phases = np.random.default_rng(seed).uniform(0.0, 2.0 * math.pi, n.size)
@@ -46,11 +40,11 @@ def _fourier(D, G, size_name, size, grid, l_min, seed, prefactor):
     """SurfaceTopography's Fourier synthesis of a self-affine surface, `grid` points per side."""
     from SurfaceTopography.Generation import fourier_synthesis
 
-    D = float(_check_D(D))
+    D = float(check_D(D))
     for name, value in (("G", G), (size_name, size)):
-        _check_positive(name, value)
+        check_positive(name, value)
     if l_min is not None:
-        _check_positive("l_min", l_min)
+        check_positive("l_min", l_min)
     return fourier_synthesis(
         grid,
         (size,) * len(grid),
