@@ -10,23 +10,29 @@ from __future__ import annotations
 import dataclasses
 
 from .models.base import AbstractContactModel
+from .models.greenwood_williamson import GreenwoodWilliamson
 from .models.jzz2010 import JZZ2010
+from .models.persson import Persson
 from .models.xia2024 import Xia2024
 from .numerics.quadrature import Adaptive, GaussLegendre, PowerSeries
 from .numerics.validate import InputError, check_choice
 from .physics.distribution import MajumdarBhushan, WangKomvopoulos
 from .physics.interaction import NoInteraction, PaperInteraction, SeriesInteraction
+from .physics.spot_stiffness import FamilyDerivative, Sneddon
 
 MODELS: dict[str, type[AbstractContactModel]] = {
     cls.name: cls
     for cls in (
         Xia2024,
         JZZ2010,
+        GreenwoodWilliamson,
+        Persson,
     )
 }
 INTERACTIONS = {cls.name: cls for cls in (NoInteraction, PaperInteraction, SeriesInteraction)}
 DISTRIBUTIONS = {cls.name: cls for cls in (MajumdarBhushan, WangKomvopoulos)}
 QUADRATURES = {cls.name: cls for cls in (PowerSeries, GaussLegendre, Adaptive)}
+SPOT_STIFFNESSES = {cls.name: cls for cls in (FamilyDerivative, Sneddon)}
 
 
 def register_model(cls: type[AbstractContactModel]) -> type[AbstractContactModel]:
@@ -52,13 +58,15 @@ def build_model(
     quadrature=None,
     quadrature_nodes=None,
     quadrature_tolerance=None,
+    spot_stiffness=None,
 ) -> AbstractContactModel:
     """The model object that a name and its options ask for; a model object passes through.
 
     **Arguments:** `model`, a name of `MODELS` or an `AbstractContactModel`; the options, each a
     name or an object: `interaction` (`INTERACTIONS`), `distribution` (`DISTRIBUTIONS`),
     `quadrature` (`QUADRATURES`), with `quadrature_nodes` (Gauss–Legendre) and
-    `quadrature_tolerance` (adaptive). Options that are None take the model's defaults.
+    `quadrature_tolerance` (adaptive), `spot_stiffness` (`SPOT_STIFFNESSES`). Options that are
+    None take the model's defaults.
 
     **Raises:** `ValueError` for an unknown name, or an option the model does not have.
     """
@@ -70,6 +78,7 @@ def build_model(
             quadrature=quadrature,
             quadrature_nodes=quadrature_nodes,
             quadrature_tolerance=quadrature_tolerance,
+            spot_stiffness=spot_stiffness,
         ).items()
         if v is not None
     }
@@ -91,6 +100,8 @@ def build_model(
     options = {}
     if "interaction" in fields and interaction is not None:
         options["interaction"] = _option("interaction", interaction, INTERACTIONS)
+    if spot_stiffness is not None:
+        options["spot_stiffness"] = _option("spot_stiffness", spot_stiffness, SPOT_STIFFNESSES)
     if distribution is not None:
         options["distribution"] = _option("distribution", distribution, DISTRIBUTIONS)
     if "quadrature" in fields:

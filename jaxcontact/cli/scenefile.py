@@ -5,8 +5,9 @@ title = "..."
 [surface]   D, G, l_min
 [material]  E, nu, H
 [joint]     area
-[model]     name ("xia2024" | "jzz2010"), quadrature_nodes, max_steps
-[effects]   interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"), regime_shares (bool)
+[model]     name ("xia2024" | "jzz2010" | "gw" | "persson"), quadrature_nodes, max_steps
+[effects]   interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"),
+            spot_stiffness ("paper" | "sneddon"), regime_shares (bool)
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
 [approach]  reference_load (N): ask for the load–approach curve relative to this preload
 [dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
@@ -43,7 +44,7 @@ _SCHEMA = {
     "material": {"E": float, "nu": float, "H": float},
     "joint": {"area": float},
     "model": {"name": str, "quadrature_nodes": int, "max_steps": int},
-    "effects": {"interaction": str, "distribution": str, "regime_shares": bool},
+    "effects": {"interaction": str, "distribution": str, "spot_stiffness": str, "regime_shares": bool},
     "loads": {"unit": str, "values": list, "range": list, "count": int},
     "approach": {"reference_load": float},
     "dynamics": {
@@ -174,7 +175,8 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
             data["joint"]["area"],
             model=name,
             interaction=interaction,
-            distribution=effects.get("distribution", "mb"),
+            distribution=effects.get("distribution"),
+            spot_stiffness=effects.get("spot_stiffness"),
             regime_shares=effects.get("regime_shares", True),
             **options,
         )

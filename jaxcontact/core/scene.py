@@ -21,8 +21,10 @@ class Scene(eqx.Module):
     - `area`: nominal contact area `A_a`, m², with `l_min² < area`.
     - `model`: the contact model, an object (`Xia2024(interaction=SeriesInteraction())`,
       `JZZ2010()`, any `AbstractContactModel`) or a name of `jaxcontact.MODELS` ("xia2024", the
-      default: Xia, Qu & Liu 2024; "jzz2010": Jiang, Zheng & Zhu 2010, MODEL.md §5).
-    - `interaction`, `distribution`, `quadrature`, `quadrature_nodes`, `quadrature_tolerance`: with
+      default: Xia, Qu & Liu 2024; "jzz2010": Jiang, Zheng & Zhu 2010, MODEL.md §5; "gw":
+      Greenwood–Williamson; "persson": Persson's theory, MODEL.md §9).
+    - `interaction`, `distribution`, `quadrature`, `quadrature_nodes`, `quadrature_tolerance`,
+      `spot_stiffness`: with
       a model *name*, its options by name (`interaction="series"`, `distribution="wk"`,
       `quadrature="gauss-legendre"`, ...), mapped to objects by `jaxcontact.build_model`; see
       `Xia2024` for what each means. With a model object, leave them out.
@@ -57,6 +59,7 @@ class Scene(eqx.Module):
         quadrature_nodes: int | None = None,
         quadrature=None,
         quadrature_tolerance: float | None = None,
+        spot_stiffness=None,
         max_steps: int = 64,
         solver_tolerance: float | None = None,
     ):
@@ -80,6 +83,7 @@ class Scene(eqx.Module):
             quadrature=quadrature,
             quadrature_nodes=quadrature_nodes,
             quadrature_tolerance=quadrature_tolerance,
+            spot_stiffness=spot_stiffness,
         )
         self.regime_shares = regime_shares
         self.max_steps = max_steps
@@ -98,6 +102,9 @@ class Scene(eqx.Module):
         )
         if "model" not in options:
             current.update(self.model.options())
+            if "interaction" in options and "quadrature" not in options:
+                # The default quadrature depends on the interaction ("power-series" is for "paper" only).
+                current.pop("quadrature", None)
         return Scene(self.surface, self.material, self.area, **{**current, **options})
 
     def __check_init__(self):

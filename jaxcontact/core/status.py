@@ -10,7 +10,9 @@ class Status(enum.IntEnum):
 
     - `OK`: valid.
     - `LOAD_OUT_OF_RANGE`: the load needs a largest spot beyond the nominal area (a_l > A_a), or
-      (model "jzz2010") below the smallest fractal asperity (a_l < l_min²).
+      (model "jzz2010") below the smallest fractal asperity (a_l < l_min²); for "gw" and "persson",
+      a nominal pressure above E (F* > 1) or a closed interface; for the BEM reference, a contact
+      fraction of 99 % or more.
     - `INTERACTION_BREAKDOWN`: interaction "paper", and ω'(a) = ξ' - σ' vanishes inside the
       stiffness range (MODEL.md §3): the model is not valid there. `a_l` and the load split are
       still reported; the stiffness is NaN.

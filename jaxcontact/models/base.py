@@ -27,6 +27,10 @@ from ..numerics.elementwise import unrolled_sum
 from ..numerics.rootfind import solve_increasing
 from .load_pieces import AbstractLoadPieces, GenericLoadPieces
 
+# A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
+# the elastic comparators (GW, Persson), whose loads are flagged out of range there.
+LINEAR_ELASTIC_LIMIT = 1.0
+
 
 class JointResponse(eqx.Module):
     """Totals of the joint at one state (dimensionless), split by the model's regimes.

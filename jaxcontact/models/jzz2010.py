@@ -7,7 +7,6 @@ plastic integrand `a^(-D/2)` is integrable at 0. Every total is a closed form.
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 import jax.numpy as jnp
@@ -18,12 +17,8 @@ from ..numerics.powerlaw import PowerLaw
 from ..numerics.validate import check_instance
 from ..physics.asperity import regime_load_laws
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
+from ..physics.spot_stiffness import hertz_stiffness
 from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
-
-
-def hertz_stiffness(like) -> PowerLaw:
-    """Hertz contact stiffness of one spot, `k = 2 E sqrt(a/π)`, in units of `E sqrt(A_a)`."""
-    return PowerLaw(jnp.full_like(like, math.log(2.0) - 0.5 * math.log(math.pi)), jnp.full_like(like, 0.5))
 
 
 class JZZ2010(AbstractLargestSpotModel):

@@ -33,8 +33,8 @@ from ..physics.interaction import (
     SeriesInteraction,
     breakdown_log_area,
     interaction_ratio,
-    stiffness_without_interaction,
 )
+from ..physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative
 from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from .load_pieces import PowerLawLoadPieces
 
@@ -57,6 +57,8 @@ class Xia2024(AbstractLargestSpotModel):
       (the default for "paper": its pole term summed to round-off, no nodes), `GaussLegendre(nodes)`
       (the default otherwise) or `Adaptive(tolerance)` (quadax Gauss–Kronrod). Unused without
       interaction. `jaxcontact accuracy` shows what each costs.
+    - `spot_stiffness`: `FamilyDerivative()` (the default, Eqs. 27–29, `k = f'/ξ'`) or `Sneddon()`
+      (`k = 2E√(a/π)`, one circular spot's stiffness; MODEL.md §9), divided by `1 ± r` alike.
     """
 
     name: ClassVar[str] = "xia2024"
@@ -64,14 +66,17 @@ class Xia2024(AbstractLargestSpotModel):
     interaction: AbstractInteraction
     distribution: AbstractDistribution
     quadrature: AbstractQuadrature
+    spot_stiffness: AbstractSpotStiffness
 
     def __init__(
         self,
         interaction: AbstractInteraction = PaperInteraction(),
         distribution: AbstractDistribution = MajumdarBhushan(),
         quadrature: AbstractQuadrature | None = None,
+        spot_stiffness: AbstractSpotStiffness = FamilyDerivative(),
     ):
         self.interaction = interaction
+        self.spot_stiffness = spot_stiffness
         self.distribution = distribution
         if quadrature is None:
             quadrature = PowerSeries() if isinstance(interaction, PaperInteraction) else GaussLegendre()
@@ -81,6 +86,7 @@ class Xia2024(AbstractLargestSpotModel):
         check_instance("interaction", self.interaction, AbstractInteraction)
         check_instance("distribution", self.distribution, AbstractDistribution)
         check_instance("quadrature", self.quadrature, AbstractQuadrature)
+        check_instance("spot_stiffness", self.spot_stiffness, AbstractSpotStiffness)
         if isinstance(self.quadrature, PowerSeries) and isinstance(self.interaction, SeriesInteraction):
             raise InputError(
                 "quadrature = 'power-series' applies to interaction 'paper' only (got interaction = "
@@ -93,16 +99,20 @@ class Xia2024(AbstractLargestSpotModel):
             "interaction": self.interaction.name,
             "distribution": self.distribution.name,
             "quadrature": self.quadrature.name,
+            "spot_stiffness": self.spot_stiffness.name,
         }
 
     def joint(self, s: DimensionlessScene) -> Xia2024Joint:
+        load_laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        interference_law = interference(s.D, s.log_G)
         return Xia2024Joint(
             D=s.D,
             log_a_min=s.log_a_min,
             log_density=self.distribution.log_scale(s.D),
             edges=regime_edges(s.log_a_c),
-            load_laws=regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c),
-            interference_law=interference(s.D, s.log_G),
+            load_laws=load_laws,
+            interference_law=interference_law,
+            spot_law=self.spot_stiffness.law(load_laws, interference_law),
             interaction=self.interaction,
             quadrature=self.quadrature,
         )
@@ -117,6 +127,7 @@ class Xia2024Joint(AbstractJoint):
     edges: Float[Array, " 5"]
     load_laws: PowerLaw
     interference_law: PowerLaw
+    spot_law: PowerLaw  # k(a) without interaction, per regime
     interaction: AbstractInteraction
     quadrature: AbstractQuadrature
 
@@ -143,12 +154,13 @@ class Xia2024Joint(AbstractJoint):
     def regime_stiffness(self, log_a_l, log_load):
         """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
 
-        Without interaction: closed forms. With interaction `k = k₀/(1 ± r)`, `k₀ = f'/ξ'`, plus
+        Without interaction: closed forms. With interaction `k = k₀/(1 ± r)` (`k₀ = f'/ξ'`, or
+        Sneddon's `2E√(a/π)`: `spot_law`), plus
         the correction `∫ k₀ n (1/(1 ± r) - 1) da` of `numerics.interaction_integral`.
         """
         lower, upper = self.intervals(log_a_l)
         has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
-        integrand = stiffness_without_interaction(self.load_laws, self.interference_law) * self.distribution(log_a_l)
+        integrand = self.spot_law * self.distribution(log_a_l)
         closed_form = integrand.integral(lower, upper) * has_stiffness
         sign = self.interaction.sign
         if sign == 0.0:
