@@ -1,0 +1,25 @@
+"""The elastic boundary-element reference (MODEL.md §10), on ContactMechanics (the `bem` extra).
+
+`bem_stiffness(topography, E, loads)` solves any areal map; `reference_curves(scene, loads)`
+synthesises realisations of a scene's surface and reports their mean, spread and the grid's
+convergence. Results are cached on disk (`ResultCache`).
+"""
+
+from .cache import ResultCache, default_directory
+from .solver import BEMResult, BEMSettings, bem_stiffness
+from .study import ReferenceCurves, realisation, reference_curves
+from .surfaces import check_grid, coarsened, synthesised_surface
+
+__all__ = [
+    "BEMResult",
+    "BEMSettings",
+    "ReferenceCurves",
+    "ResultCache",
+    "bem_stiffness",
+    "check_grid",
+    "coarsened",
+    "default_directory",
+    "realisation",
+    "reference_curves",
+    "synthesised_surface",
+]
