@@ -15,6 +15,7 @@ import traceback
 
 from ..numerics.validate import InputError
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
+from .compare_commands import DEFAULT_COMPARE_SCENE, add_compare_options, cmd_compare
 from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
 from .surface_commands import add_topography_options, cmd_surface
 
@@ -119,6 +120,17 @@ def build_parser() -> argparse.ArgumentParser:
         "jaxcontact-out/dynamics",
         "table1_dynamics.toml",
     )
+    p = scene_command(
+        "compare",
+        "every model beside an elastic boundary-element reference on synthesised (or, with "
+        "--topography, measured) surfaces; CSV, plot and K_model/K_BEM table",
+        cmd_compare,
+        "jaxcontact-out/compare",
+        DEFAULT_COMPARE_SCENE,
+    )
+    p.add_argument("--topography", help="a measured areal map: BEM on its heights, models on its D, G, l_min")
+    add_topography_options(p)
+    add_compare_options(p)
     p = sub.add_parser("figures", help="reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
     common(p, "jaxcontact-out/figures")
     p.set_defaults(func=cmd_figures)

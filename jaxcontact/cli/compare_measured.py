@@ -1,0 +1,113 @@
+"""`jaxcontact compare --topography FILE`: the BEM on a measured map beside the models on its
+characterised (D, G, l_min), and each model's own (D, G) fitted to the BEM curve."""
+
+from __future__ import annotations
+
+import math
+
+from .commands import CommandError, print_result
+
+# Contact fractions (Persson's) at which the measured map is loaded.
+MEASURED_FRACTIONS = (0.005, 0.02, 0.05, 0.12)
+
+
+def _fits(comparison, K_bem, ok):
+    """Each model's (D, G) fitted to the BEM curve, beside the characterised values."""
+    from fitting import fit
+
+    rows = []
+    for label, options in comparison_models().items():
+        scene = comparison.scene.with_options(**options, regime_shares=False)
+        try:
+            result = fit(comparison.loads[ok], K_bem[ok], scene, params=("D", "G"), n_starts=4)
+            rows.append(
+                {
+                    "model": label,
+                    "D_fit": result.values["D"],
+                    "G_fit_wm_m": result.values["G"],
+                    "loss": result.loss,
+                    "success": bool(result.success),
+                }
+            )
+        except ValueError as exc:  # a curve the model cannot reach at all: said, not fatal
+            rows.append(
+                {
+                    "model": label,
+                    "D_fit": math.nan,
+                    "G_fit_wm_m": math.nan,
+                    "loss": math.nan,
+                    "success": False,
+                    "error": str(exc),
+                }
+            )
+    return rows
+
+
+def comparison_models():
+    from ..studies.compare import COMPARED
+
+    return COMPARED
+
+
+def compare_measured(args, out, cache, progress) -> int:
+    import equinox as eqx
+    import numpy as np
+
+    from ..bem import BEMResult, bem_stiffness
+    from ..studies.compare import Comparison, loads_for_fractions, model_curves
+    from .compare_commands import _scene, _table, plot_comparison
+    from .report import write_csv
+    from .surface_commands import characterise_file
+
+    args.file = args.topography
+    topography, c = characterise_file(args)
+    if topography.dim != 2:
+        raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
+    spec = _scene(args)
+    lx, ly = topography.physical_sizes
+    scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (c.surface, np.asarray(lx * ly)))
+    loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
+    result: BEMResult = bem_stiffness(
+        topography, float(scene.material.E), loads, substrate=args.substrate, cache=cache, progress=progress
+    )
+    reference = _Measured(result)
+    comparison = Comparison(scene, reference, model_curves(scene, loads))
+    if not reference.ok.any():
+        raise CommandError("the BEM gave no valid point on this map (see comparison.csv's status)")
+    rows = comparison.rows()
+    fits = _fits(comparison, result.stiffness, reference.ok) if args.fit else []
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "comparison.csv")
+    files = [str(out / "comparison.csv")]
+    if fits:
+        write_csv(fits, out / "fits.csv")
+        files.append(str(out / "fits.csv"))
+    title = f"{args.topography}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
+    files.append(plot_comparison(comparison, title, out / "comparison.png"))
+    fitted = "\n".join(f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)" for f in fits)
+    summary = (
+        f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]})\n"
+        f"{_table(rows, list(comparison.models))}\n"
+        + (
+            f"\nD, G of each model fitted to the BEM curve (the surface's own: D = {c.D:.4f}, "
+            f"G = {c.G:.4g} m):\n{fitted}\n"
+            if fits
+            else ""
+        )
+        + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result({"title": title, "rows": rows, "fits": fits, "files": files}, args.format, summary)
+    return 0
+
+
+class _Measured:
+    """One measured surface as `bem.ReferenceCurves` presents several: no spread, no grid check."""
+
+    def __init__(self, result):
+        import numpy as np
+
+        self.result, self.loads, self.grid, self.seeds = result, result.loads, result.grid[0], (0,)
+        self.ok = result.status == 0
+        self.mean = self.low = self.high = np.where(self.ok, result.stiffness, np.nan)
+        self.contact_fraction = result.contact_fraction
+        self.grid_change = None
