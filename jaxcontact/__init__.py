@@ -20,13 +20,24 @@ from .core.scene import Scene, stack_scenes
 from .core.solution import Solution
 from .core.status import Status, status_message
 from .models.base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
+from .models.greenwood_williamson import GreenwoodWilliamson
 from .models.jzz2010 import JZZ2010
+from .models.persson import Persson
 from .models.xia2024 import Xia2024
 from .numerics.quadrature import AbstractQuadrature, Adaptive, GaussLegendre, PowerSeries
 from .numerics.validate import InputError
 from .physics.distribution import AbstractDistribution, MajumdarBhushan, WangKomvopoulos, wang_komvopoulos_psi
 from .physics.interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction
-from .registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, build_model, register_model
+from .physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon
+from .registry import (
+    DISTRIBUTIONS,
+    INTERACTIONS,
+    MODELS,
+    QUADRATURES,
+    SPOT_STIFFNESSES,
+    build_model,
+    register_model,
+)
 
 __all__ = [
     "Surface",
@@ -59,6 +70,11 @@ __all__ = [
     "nondimensionalise",
     "Xia2024",
     "JZZ2010",
+    "GreenwoodWilliamson",
+    "Persson",
+    "AbstractSpotStiffness",
+    "FamilyDerivative",
+    "Sneddon",
     "AbstractInteraction",
     "NoInteraction",
     "PaperInteraction",
@@ -75,7 +91,8 @@ __all__ = [
     "INTERACTIONS",
     "DISTRIBUTIONS",
     "QUADRATURES",
+    "SPOT_STIFFNESSES",
     "build_model",
     "register_model",
 ]
-__version__ = "0.3.0"
+__version__ = "0.4.0"

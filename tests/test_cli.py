@@ -49,6 +49,7 @@ def test_results_record_the_scene_they_came_from(tmp_path, capsys):
         "interaction": "paper",
         "distribution": "mb",
         "quadrature": "power-series",
+        "spot_stiffness": "paper",
     }
     comments = [line for line in (tmp_path / "results.csv").read_text().splitlines() if line.startswith("#")]
     assert comments[1] == (

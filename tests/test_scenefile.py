@@ -51,7 +51,7 @@ def with_(table, key, value):
         (with_("surface", "D", "rough"), r"surface.D = 'rough' must be a number"),
         (with_("surface", "D", 2.3), r"D \(fractal dimension\) = 2.3 is outside its valid range \(1, 2\)"),
         (with_("material", "nu", 0.7), r"nu .*= 0.7 .*\[0, 0.5\)"),
-        (with_("model", "name", "gw"), r"model = 'gw' is not one of 'xia2024', 'jzz2010'"),
+        (with_("model", "name", "gw2"), r"model = 'gw2' is not one of 'xia2024', 'jzz2010', 'gw', 'persson'"),
         (with_("effects", "interaction", "strong"), r"interaction = 'strong' is not one of"),
         (with_("effects", "regime_shares", "yes"), r"effects.regime_shares = 'yes' must be true or false"),
         (with_("loads", "unit", "kN"), r"loads.unit = 'kN' is not one of 'N', 'F_star'"),

@@ -11,7 +11,12 @@ DEFAULT_COMPARE_SCENE = "bem_comparison.toml"
 
 
 def add_compare_options(p) -> None:
-    p.add_argument("--grid", type=int, default=512, help="BEM grid, points per side, a power of two (default 512)")
+    p.add_argument(
+        "--grid",
+        type=int,
+        default=512,
+        help="BEM grid, points per side, a power of two (default 512); a finer measured map is coarsened to it",
+    )
     p.add_argument("--realisations", type=int, default=3, help="synthesised surfaces per scene (default 3)")
     p.add_argument("--seed", type=int, default=0, help="seed of the first realisation (default 0)")
     p.add_argument(

@@ -27,6 +27,7 @@ def _fits(comparison, K_bem, ok):
                     "G_fit_wm_m": result.values["G"],
                     "loss": result.loss,
                     "success": bool(result.success),
+                    "warnings": "; ".join(result.warnings),
                 }
             )
         except ValueError as exc:  # a curve the model cannot reach at all: said, not fatal
@@ -37,10 +38,20 @@ def _fits(comparison, K_bem, ok):
                     "G_fit_wm_m": math.nan,
                     "loss": math.nan,
                     "success": False,
-                    "error": str(exc),
+                    "warnings": str(exc),
                 }
             )
     return rows
+
+
+def _on_grid(topography, grid):
+    """The map coarsened by halving (Fourier truncation) until no side exceeds `grid` points."""
+    from ..bem import coarsened
+
+    factor = 1
+    while max(topography.nb_grid_pts) > grid and all(n % 2 == 0 for n in topography.nb_grid_pts):
+        topography, factor = coarsened(topography), factor * 2
+    return topography, factor
 
 
 def comparison_models():
@@ -63,6 +74,7 @@ def compare_measured(args, out, cache, progress) -> int:
     topography, c = characterise_file(args)
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
+    topography, coarsening = _on_grid(topography, args.grid)
     spec = _scene(args)
     lx, ly = topography.physical_sizes
     scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (c.surface, np.asarray(lx * ly)))
@@ -84,9 +96,19 @@ def compare_measured(args, out, cache, progress) -> int:
         files.append(str(out / "fits.csv"))
     title = f"{args.topography}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
     files.append(plot_comparison(comparison, title, out / "comparison.png"))
-    fitted = "\n".join(f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)" for f in fits)
+    fitted = "\n".join(
+        f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)"
+        + (
+            ""
+            if f["success"] and not f.get("warnings")
+            else f"  [{f.get('warnings') or f.get('error') or 'not converged'}]"
+        )
+        for f in fits
+    )
     summary = (
-        f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]})\n"
+        f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
+        + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
+        + ")\n"
         f"{_table(rows, list(comparison.models))}\n"
         + (
             f"\nD, G of each model fitted to the BEM curve (the surface's own: D = {c.D:.4f}, "

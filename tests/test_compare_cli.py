@@ -1,0 +1,64 @@
+"""`jaxcontact compare`: the table, files and errors of the command (small grids)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from jaxcontact.cli import main
+from jaxcontact.topography import synthesis
+
+pytest.importorskip("ContactMechanics")
+
+
+@pytest.fixture(scope="module")
+def default_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("compare")
+    argv = ["compare", "--grid", "256", "--realisations", "1", "--out", str(out), "--cache-dir", str(out / "cache")]
+    return out, argv
+
+
+def test_compare_writes_rows_for_every_model(default_run, capsys):
+    out, argv = default_run
+    assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert len(rows) == 4
+    row = rows[1]
+    np.testing.assert_allclose(row["ratio_persson"], row["K_persson_N_per_m"] / row["K_bem_mean_N_per_m"], rtol=1e-12)
+    assert (out / "comparison.png").stat().st_size > 10_000
+
+
+def test_compare_prints_the_grid_convergence(default_run, capsys):
+    _, argv = default_run
+    assert main([*argv, "--no-progress"]) == 0  # read back from the cache
+    assert "grid convergence: K at 128² differs from 256² by at most" in capsys.readouterr().out
+
+
+def test_a_grid_too_coarse_is_one_line(capsys, tmp_path):
+    assert main(["compare", "--grid", "128", "--out", str(tmp_path), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [err[0]] and "grid = 128 is too coarse for l_min" in err[0]
+
+
+@pytest.fixture(scope="module")
+def measured_map(tmp_path_factory):
+    path = tmp_path_factory.mktemp("map") / "map.txt"
+    np.savetxt(path, synthesis.areal_map(1.5, 1e-12, 1e-4, 512, seed=3).heights())
+    return path
+
+
+def test_a_non_periodic_measured_map_needs_a_substrate(measured_map, capsys, tmp_path):
+    argv = ["compare", "--topography", str(measured_map), "--size", "1e-4", "1e-4", "--out", str(tmp_path)]
+    assert main([*argv, "--no-progress"]) == 2
+    assert "substrate = 'free'" in capsys.readouterr().err
+
+
+def test_compare_on_a_measured_map(measured_map, capsys, tmp_path):
+    argv = ["compare", "--topography", str(measured_map), "--size", "1e-4", "1e-4", "--substrate", "periodic"]
+    argv += ["--no-fit", "--grid", "128", "--out", str(tmp_path), "--cache-dir", str(tmp_path / "cache")]
+    assert main([*argv, "--no-progress"]) == 0
+    assert "BEM on the measured heights, 128 x 128, coarsened 4x to --grid 128" in capsys.readouterr().out
+    assert main([*argv, "--no-progress", "--format", "json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    fractions = [row["contact_fraction_bem"] for row in rows]
+    assert 0.003 < fractions[0] < fractions[-1] < 0.3
