@@ -87,11 +87,17 @@ def plot_comparison(comparison, title, path) -> str:
     ref = comparison.reference
     unit_load = float(comparison.scene.material.E) * float(comparison.scene.area)
     unit_stiffness = float(comparison.scene.material.E) * math.sqrt(float(comparison.scene.area))
+    from matplotlib.ticker import NullFormatter
+
+    from ..studies.compare import model_curves
+
     F = ref.loads / unit_load
+    fine = np.geomspace(ref.loads.min(), ref.loads.max(), 64)
     fig, ax = subplots(figsize=(6.5, 4.6))
-    for label, (stiffness, _) in comparison.models.items():
+    for label, (stiffness, _) in model_curves(comparison.scene, fine).items():
         shown = np.isfinite(stiffness) & (stiffness > 0)
-        ax.loglog(F[shown], stiffness[shown] / unit_stiffness, "-", label=label)
+        note = "" if shown.all() else (" (flagged or K = 0 everywhere)" if not shown.any() else " (partly flagged)")
+        ax.loglog(fine[shown] / unit_load, stiffness[shown] / unit_stiffness, "-", label=label + note)
     mean = ref.mean / unit_stiffness
     ax.errorbar(
         F,
@@ -101,6 +107,7 @@ def plot_comparison(comparison, title, path) -> str:
         capsize=3,
         label=f"BEM {ref.grid}², {len(ref.seeds)} realisations (min–max)",
     )
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("F* = F/(E A_a)")
     ax.set_ylabel("K* = K/(E √A_a)")
     ax.set_title(title, fontsize=8)
