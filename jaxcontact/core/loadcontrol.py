@@ -175,8 +175,13 @@ def _cast(entry: dict, loads):
     dtype = _working_dtype(entry["leaves"], loads)
     if dtype not in entry["cast"]:
         leaves = entry["leaves"]
-        # Leaves already of the working dtype are passed through: no conversion of each.
-        cast = [x if isinstance(x, jax.Array) and x.dtype == dtype else jnp.asarray(x, dtype) for x in leaves]
+        # Leaves already of the working dtype are passed through: no conversion of each. Weakly
+        # typed ones (a scene built from Python floats) are made strong, so that it shares its
+        # compiled program with the same scene built from numpy or JAX values.
+        cast = [
+            x if isinstance(x, jax.Array) and x.dtype == dtype and not x.weak_type else jnp.asarray(x, dtype)
+            for x in leaves
+        ]
         unchanged = all(a is b for a, b in zip(cast, leaves))
         scene = entry["scene"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], cast)
         entry["cast"][dtype] = (scene, cast)
