@@ -41,6 +41,22 @@ def test_hertz_stiffness_is_2Ea(hertz):
     np.testing.assert_allclose(result.stiffness[0], 2 * a, rtol=0.02)
 
 
+@pytest.mark.parametrize("coarse", [8, 9])
+def test_coarsening_keeps_a_band_limited_surface(coarse):
+    """A surface of the grid's lowest wavevectors, sampled on 2n points, coarsened to n (even and odd)."""
+
+    def heights(n):
+        x = np.arange(n) / n
+        return (
+            np.cos(2 * np.pi * x)[:, None]
+            + np.sin(2 * np.pi * 3 * x)[None, :]
+            + 0.5 * np.cos(2 * np.pi * (x[:, None] - 2 * x[None, :]))
+        )
+
+    fine = SurfaceTopography.Topography(heights(2 * coarse), (1.0, 1.0), periodic=True)
+    np.testing.assert_allclose(bem.coarsened(fine).heights(), heights(coarse), atol=1e-12)
+
+
 def test_a_non_periodic_map_needs_an_explicit_substrate():
     with pytest.raises(ValueError, match="not periodic: choose substrate = 'free'"):
         bem.bem_stiffness(paraboloid(32), 1.0, [1e-3])

@@ -54,8 +54,9 @@ def coarsened(topography, factor: int = 2):
     mx, my = nx // factor, ny // factor
     spectrum = np.fft.fft2(topography.heights())
     kept = np.zeros((mx, my), dtype=complex)
-    ix = np.r_[0 : mx // 2, nx - mx // 2 : nx]
-    iy = np.r_[0 : my // 2, ny - my // 2 : ny]
+    # The lowest wavevectors, non-negative then negative, as numpy orders them on the coarse grid.
+    ix = np.r_[0 : (mx + 1) // 2, nx - mx // 2 : nx]
+    iy = np.r_[0 : (my + 1) // 2, ny - my // 2 : ny]
     kept[:, :] = spectrum[np.ix_(ix, iy)]
     heights = np.real(np.fft.ifft2(kept)) / (factor * factor)
     return Topography(heights, topography.physical_sizes, periodic=topography.is_periodic, unit="m")
