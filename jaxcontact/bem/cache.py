@@ -33,19 +33,23 @@ class ResultCache:
         self.directory = pathlib.Path(directory) if directory is not None else default_directory()
 
     @staticmethod
-    def key(heights, sizes, modulus, load, substrate, settings) -> str:
+    def surface_key(heights, sizes, modulus, substrate, settings) -> str:
+        """The part of a key that every load on one surface shares: hashed once per surface."""
         digest = hashlib.sha256(np.ascontiguousarray(heights, dtype=np.float64).tobytes())
         described = (
             CACHE_FORMAT,
             tuple(map(float, sizes)),
             np.shape(heights),
             float(modulus),
-            float(load),
             substrate,
             repr(settings),
         )
         digest.update(repr(described).encode())
         return digest.hexdigest()
+
+    @staticmethod
+    def key(surface_key: str, load) -> str:
+        return hashlib.sha256(f"{surface_key}:{float(load)!r}".encode()).hexdigest()
 
     def get(self, key: str) -> dict | None:
         path = self.directory / f"{key}.json"

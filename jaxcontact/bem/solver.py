@@ -157,10 +157,12 @@ def bem_stiffness(
     half_space, substrate = _substrate(topography, float(modulus), substrate)
     system = make_system(substrate=half_space, surface=topography)
     rows = []
+    if cache is not None:
+        surface_key = cache.surface_key(topography.heights(), topography.physical_sizes, modulus, substrate, settings)
     for done, load in enumerate(loads, start=1):
         key = None
         if cache is not None:
-            key = cache.key(topography.heights(), topography.physical_sizes, modulus, load, substrate, settings)
+            key = cache.key(surface_key, load)
             row = cache.get(key)
         if cache is None or row is None:
             row = _one_load(system, topography, float(load), settings)

@@ -15,8 +15,10 @@ def _fits(comparison, K_bem, ok):
     """Each model's (D, G) fitted to the BEM curve, beside the characterised values."""
     from fitting import fit
 
+    from ..studies.compare import COMPARED
+
     rows = []
-    for label, options in comparison_models().items():
+    for label, options in COMPARED.items():
         scene = comparison.scene.with_options(**options, regime_shares=False)
         try:
             result = fit(comparison.loads[ok], K_bem[ok], scene, params=("D", "G"), n_starts=4)
@@ -54,17 +56,11 @@ def _on_grid(topography, grid):
     return topography, factor
 
 
-def comparison_models():
-    from ..studies.compare import COMPARED
-
-    return COMPARED
-
-
 def compare_measured(args, out, cache, progress) -> int:
     import equinox as eqx
     import numpy as np
 
-    from ..bem import BEMResult, bem_stiffness
+    from ..bem import ReferenceCurves, bem_stiffness
     from ..studies.compare import Comparison, loads_for_fractions, model_curves
     from .compare_commands import _scene, _table, plot_comparison
     from .report import write_csv
@@ -79,10 +75,11 @@ def compare_measured(args, out, cache, progress) -> int:
     lx, ly = topography.physical_sizes
     scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (c.surface, np.asarray(lx * ly)))
     loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
-    result: BEMResult = bem_stiffness(
+    result = bem_stiffness(
         topography, float(scene.material.E), loads, substrate=args.substrate, cache=cache, progress=progress
     )
-    reference = _Measured(result)
+    # One measured surface: no spread over realisations, no grid check.
+    reference = ReferenceCurves((result,), seeds=(0,), grid=result.grid[0], convergence=None)
     comparison = Comparison(scene, reference, model_curves(scene, loads))
     if not reference.ok.any():
         raise CommandError("the BEM gave no valid point on this map (see comparison.csv's status)")
@@ -120,16 +117,3 @@ def compare_measured(args, out, cache, progress) -> int:
     )
     print_result({"title": title, "rows": rows, "fits": fits, "files": files}, args.format, summary)
     return 0
-
-
-class _Measured:
-    """One measured surface as `bem.ReferenceCurves` presents several: no spread, no grid check."""
-
-    def __init__(self, result):
-        import numpy as np
-
-        self.result, self.loads, self.grid, self.seeds = result, result.loads, result.grid[0], (0,)
-        self.ok = result.status == 0
-        self.mean = self.low = self.high = np.where(self.ok, result.stiffness, np.nan)
-        self.contact_fraction = result.contact_fraction
-        self.grid_change = None
