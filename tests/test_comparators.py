@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import BEM_L, BEM_SETTING, TABLE1, make_scene
 from scipy import integrate, optimize, special
 
 import jaxcontact as jc
@@ -13,9 +13,7 @@ from jaxcontact.models.greenwood_williamson import log_tail_moment
 from jaxcontact.physics.spectrum import profile_moments
 from jaxcontact.topography.conventions import areal_prefactor
 
-# MODEL.md §10's surface: L = 100 µm, l_min = L/64, G = 1e-12 m, E = 210 GPa.
-L = 100e-6
-BEM_SETTING = dict(D=1.5, G=1e-12, E=210e9, nu=0.3, H=3e8, area=L * L, l_min=L / 64)
+L = BEM_L
 
 
 def quad(f, lo, hi):

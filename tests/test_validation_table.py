@@ -9,7 +9,7 @@ import pytest
 from conftest import ROOT
 
 from jaxcontact.cli.compare_commands import _scene
-from jaxcontact.studies.compare import COMPARED, validation_rows
+from jaxcontact.studies.compare import COMPARED, column_key, validation_rows
 
 pytest.importorskip("ContactMechanics")
 TABLE = ROOT / "data" / "validation_bem.csv"
@@ -51,7 +51,7 @@ def test_the_bem_stiffness_lies_within_the_committed_spread(regenerated):
 @pytest.mark.parametrize("label", list(COMPARED))
 def test_each_models_committed_stiffness_is_recomputed(regenerated, label):
     _, rows = committed()
-    key = label.replace(" ", "_")
+    key = column_key(label)
     np.testing.assert_allclose(
         [r[f"K_{key}_N_per_m"] for r in regenerated], [float(r[f"K_{key}_N_per_m"]) for r in rows], rtol=1e-9
     )

@@ -87,9 +87,7 @@ def _substrate(topography, modulus: float, substrate: str | None):
     return FreeFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes), substrate
 
 
-def _one_load(system, topography, load, settings: BEMSettings):
-    heights = topography.heights()
-    pentol = settings.penetration_tolerance * float(np.std(heights)) / float(np.mean(topography.nb_grid_pts))
+def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
     options = dict(pentol=pentol, forcetol=1e-12 * load, maxiter=settings.max_iterations)
     centre = system.minimize_proxy(external_force=load, **options)
     iterations = int(centre.nit)
@@ -153,25 +151,29 @@ def bem_stiffness(
 
     check_range("modulus", modulus, 0.0)
     loads = np.atleast_1d(np.asarray(loads, dtype=float))
+    if loads.size == 0:
+        raise InputError("loads is empty: give at least one load (valid range (0, inf) N)")
     check_range("loads", loads, 0.0)
     half_space, substrate = _substrate(topography, float(modulus), substrate)
     system = make_system(substrate=half_space, surface=topography)
+    heights = topography.heights()
+    pentol = settings.penetration_tolerance * float(np.std(heights)) / float(np.mean(topography.nb_grid_pts))
     rows = []
     if cache is not None:
-        surface_key = cache.surface_key(topography.heights(), topography.physical_sizes, modulus, substrate, settings)
+        surface_key = cache.surface_key(heights, topography.physical_sizes, modulus, substrate, settings)
     for done, load in enumerate(loads, start=1):
         key = None
         if cache is not None:
             key = cache.key(surface_key, load)
             row = cache.get(key)
         if cache is None or row is None:
-            row = _one_load(system, topography, float(load), settings)
+            row = _one_load(system, topography, float(load), pentol, settings)
             if cache is not None:
                 cache.put(key, row)
         rows.append(row)
         if progress is not None:
             progress(done, len(loads))
-    column = {name: np.array([row[name] for row in rows]) for name in rows[0]} if rows else {}
+    column = {name: np.array([row[name] for row in rows]) for name in rows[0]}
     return BEMResult(
         loads=loads,
         stiffness=column["stiffness"].astype(float),

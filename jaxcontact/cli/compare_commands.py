@@ -65,7 +65,9 @@ def _scene(args):
 
 
 def _ratio_cell(row, label) -> str:
-    key = label.replace(" ", "_")
+    from ..studies.compare import column_key
+
+    key = column_key(label)
     status = row[f"status_{key}"]
     return f"{row['ratio_' + key]:>15.3g}" if status == "ok" else f"{status[:15]:>15}"
 

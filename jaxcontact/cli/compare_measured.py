@@ -22,27 +22,14 @@ def _fits(comparison, K_bem, ok):
         scene = comparison.scene.with_options(**options, regime_shares=False)
         try:
             result = fit(comparison.loads[ok], K_bem[ok], scene, params=("D", "G"), n_starts=4)
-            rows.append(
-                {
-                    "model": label,
-                    "D_fit": result.values["D"],
-                    "G_fit_wm_m": result.values["G"],
-                    "loss": result.loss,
-                    "success": bool(result.success),
-                    "warnings": "; ".join(result.warnings),
-                }
-            )
+            D, G, loss, success = result.values["D"], result.values["G"], result.loss, bool(result.success)
+            warnings = "; ".join(result.warnings)
         except ValueError as exc:  # a curve the model cannot reach at all: said, not fatal
-            rows.append(
-                {
-                    "model": label,
-                    "D_fit": math.nan,
-                    "G_fit_wm_m": math.nan,
-                    "loss": math.nan,
-                    "success": False,
-                    "warnings": str(exc),
-                }
-            )
+            D = G = loss = math.nan
+            success, warnings = False, str(exc)
+        rows.append(
+            {"model": label, "D_fit": D, "G_fit_wm_m": G, "loss": loss, "success": success, "warnings": warnings}
+        )
     return rows
 
 
@@ -66,7 +53,6 @@ def compare_measured(args, out, cache, progress) -> int:
     from .report import write_csv
     from .surface_commands import characterise_file
 
-    args.file = args.topography
     topography, c = characterise_file(args)
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")

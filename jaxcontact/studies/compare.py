@@ -27,6 +27,11 @@ VALIDATION_D = (1.3, 1.5, 1.7)
 VALIDATION_FRACTIONS = (0.004, 0.03, 0.12)
 
 
+def column_key(label: str) -> str:
+    """A model's label as its CSV columns spell it ("xia2024 none" → "xia2024_none")."""
+    return label.replace(" ", "_")
+
+
 @dataclasses.dataclass(frozen=True)
 class Comparison:
     """Models and the BEM reference at the same loads: `reference` (`bem.ReferenceCurves`),
@@ -65,7 +70,7 @@ class Comparison:
             if ref.grid_change is not None:
                 row["bem_grid_half_change"] = float(ref.grid_change[i])
             for label, (stiffness, status) in self.models.items():
-                key = label.replace(" ", "_")
+                key = column_key(label)
                 row[f"K_{key}_N_per_m"] = float(stiffness[i])
                 row[f"ratio_{key}"] = float(stiffness[i]) / float(ref.mean[i])
                 row[f"status_{key}"] = status_message(status[i])
