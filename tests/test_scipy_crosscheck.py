@@ -46,3 +46,20 @@ def test_matches_scipy_baseline(case, model, interaction, distribution):
             np.testing.assert_allclose([sol.a_l[i], sol.real_area[i]], [a_l, A_r], rtol=1e-8)
         if status == "ok":
             np.testing.assert_allclose(sol.stiffness[i], K, rtol=1e-8, atol=1e-300)
+
+
+def test_bench_compares_with_the_baseline_of_the_same_scene():
+    """`jaxcontact bench` times the scipy baseline on the scene's own parameters and choices."""
+    from jaxcontact.studies.bench import _baseline
+
+    p = _baseline(make_scene(**CASES[0], interaction="series", distribution="wk"))
+    names = ("D", "G", "E", "nu", "H", "area", "l_min")
+    assert tuple(getattr(p, k) for k in names) == tuple(CASES[0][k] for k in names)
+    assert (p.interaction, p.distribution) == ("series", "wk")
+
+
+def test_bench_refuses_a_spot_stiffness_the_baseline_does_not_implement():
+    from jaxcontact.studies.bench import _baseline
+
+    with pytest.raises(ValueError, match="spot_stiffness = 'sneddon'"):
+        _baseline(make_scene(**CASES[0], spot_stiffness="sneddon"))

@@ -1,6 +1,7 @@
 """Bad configuration raises ValueError naming the parameter, its value and its valid range."""
 
 import jax.numpy as jnp
+import numpy as np
 import pytest
 from conftest import TABLE1, make_scene
 
@@ -76,6 +77,7 @@ def test_scene(kw, pattern):
         (jnp.array([1.0, jnp.nan]), r"loads\[1\] = nan N"),
         ([1.0, 0.0], r"loads\[1\] = 0.0 N"),
         (jnp.array([1.0, jnp.inf]), r"loads\[1\] = inf N"),
+        (np.array([[2.0, 1.0], [-np.inf, 3.0]]), r"loads\[1, 0\] = -inf N"),
     ],
 )
 def test_concrete_bad_loads(table1_scene, loads, pattern):

@@ -33,6 +33,9 @@ def _check_loads(loads) -> None:
     values = concrete(loads)
     if values is None:
         return
+    # Two reductions decide the common case; NaN fails `> 0` and falls through to the search.
+    if values.size and values.min() > 0 and values.max() < np.inf:
+        return
     bad = ~(np.isfinite(values) & (values > 0))
     if np.any(bad):
         where = np.argwhere(bad)[0]
@@ -46,13 +49,19 @@ def _check_loads(loads) -> None:
 _DTYPES: dict = {}
 
 
-def _working_dtype(leaves, loads):
+def _working_dtype(leaves, loads, memo=None):
     # A weak Python float: float32 unless x64 is on or an input is already float64. Cached by the
-    # inputs' dtypes, as jnp.result_type costs more than the rest of an eager call's checks.
+    # inputs' dtypes, as jnp.result_type costs more than the rest of an eager call's checks; `memo`
+    # (one scene's) is keyed by the loads' dtype alone, so a repeated call looks at no leaf.
+    quick = (jax.config.jax_enable_x64, getattr(loads, "dtype", None), getattr(loads, "weak_type", False))
+    if memo is not None and quick in memo:
+        return memo[quick]
     typed = [x for x in (*leaves, loads) if hasattr(x, "dtype")]
     key = (jax.config.jax_enable_x64, *((x.dtype, getattr(x, "weak_type", False)) for x in typed))
     if key not in _DTYPES:
         _DTYPES[key] = jnp.result_type(1.0, *typed)
+    if memo is not None:
+        memo[quick] = _DTYPES[key]
     return _DTYPES[key]
 
 
@@ -163,7 +172,7 @@ def _scene_leaves(scene: Scene, loads):
         leaves, treedef = jax.tree_util.tree_flatten(scene)
         if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
             _check_scalar_parameters(scene)
-        entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={})
+        entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
         if any(isinstance(x, jax.core.Tracer) for x in leaves):
             return _cast(entry, loads)
         _last_scene.clear()
@@ -172,7 +181,7 @@ def _scene_leaves(scene: Scene, loads):
 
 
 def _cast(entry: dict, loads):
-    dtype = _working_dtype(entry["leaves"], loads)
+    dtype = _working_dtype(entry["leaves"], loads, entry["dtypes"])
     if dtype not in entry["cast"]:
         leaves = entry["leaves"]
         # Leaves already of the working dtype are passed through: no conversion of each. Weakly

@@ -34,6 +34,7 @@ class _Program:
 
     def __init__(self, function, treedef):
         self.output_tree = None
+        self.roles = {}
 
         def flat(leaves, loads):
             outputs, self.output_tree = jax.tree_util.tree_flatten(
@@ -69,6 +70,18 @@ def _unpad(size: int, shape: tuple[int, ...]):
     return jax.jit(cut)
 
 
+def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int], list[int]]:
+    """Which outputs are per load (leading axis `size`) and which per call, once per program and
+    bucket: reading every output's shape costs more than the cut itself."""
+    key = (size, ndim)
+    if key not in compiled.roles:
+        per_load = [i for i, x in enumerate(outputs) if x.ndim and x.shape[0] == size]
+        # Per-call outputs are already shaped (1,) for 1-D loads: passed through untouched.
+        per_call = [i for i in range(len(outputs)) if i not in per_load and ndim != 1]
+        compiled.roles[key] = (per_load, per_call)
+    return compiled.roles[key]
+
+
 def call(function, leaves, treedef, loads):
     """`function(tree, loads)`, for the tree of these leaves, through its cached program; concrete
     loads padded to a bucket.
@@ -88,9 +101,7 @@ def call(function, leaves, treedef, loads):
     else:
         padded = _pad(loads, size)
     outputs = compiled.flat(leaves, padded)
-    per_load = [i for i, x in enumerate(outputs) if x.ndim and x.shape[0] == size]
-    # Per-call outputs are already shaped (1,) for 1-D loads: passed through untouched.
-    per_call = [i for i in range(len(outputs)) if i not in per_load and loads.ndim != 1]
+    per_load, per_call = _roles(compiled, size, loads.ndim, outputs)
     cut_load, cut_call = _unpad(size, loads.shape)([outputs[i] for i in per_load], [outputs[i] for i in per_call])
     for i, x in zip(per_load + per_call, cut_load + cut_call):
         outputs[i] = x

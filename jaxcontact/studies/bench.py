@@ -64,6 +64,10 @@ def _baseline(scene: Scene, **changes) -> BaselineParameters:
         **scene.model.options(),
     )
     values.pop("quadrature", None)
+    # The baseline implements the paper's spot stiffness (Eqs. 27-29) only.
+    spot = values.pop("spot_stiffness", "paper")
+    if spot != "paper":
+        raise ValueError(f"spot_stiffness = {spot!r}: the scipy baseline implements 'paper' (Eqs. 27-29) only")
     values.setdefault("interaction", "none")
     return BaselineParameters(**{**values, **changes})
 
