@@ -9,8 +9,6 @@ The package never enables float64 itself: call `jax.config.update("jax_enable_x6
 for double precision (the command line does).
 """
 
-from .applications.dynamics import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
-from .applications.loadapproach import Approach, approach
 from .core.defaults import table1_scene
 from .core.domain import PARAMETERS, ParameterSpec
 from .core.loadcontrol import point_solver, solve
@@ -96,3 +94,29 @@ __all__ = [
     "register_model",
 ]
 __version__ = "0.4.0"
+
+# The applications that integrate with diffrax are imported when first used: diffrax's import
+# costs about a second, which `solve` and the command line's `run` do not need.
+_LAZY = {
+    "Drive": "dynamics",
+    "frequency_response": "dynamics",
+    "resonance_frequency": "dynamics",
+    "simulate": "dynamics",
+    "steady_amplitude": "dynamics",
+    "Approach": "loadapproach",
+    "approach": "loadapproach",
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".applications.{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

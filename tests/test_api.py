@@ -110,6 +110,17 @@ def test_import_does_not_enable_x64():
     assert out.stdout.strip() == "float32"
 
 
+def test_import_leaves_diffrax_until_an_application_needs_it():
+    """`import jaxcontact` does not pay for diffrax's import; `jc.approach` brings it in."""
+    code = (
+        "import sys, jaxcontact as jc; print('diffrax' in sys.modules); jc.approach; print('diffrax' in sys.modules); "
+        "print(sorted(set(jc.__all__) - set(dir(jc))))"
+    )
+    env = {"JAX_PLATFORMS": "cpu", "PATH": ""}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split("\n")[:3] == ["False", "True", "[]"]
+
+
 def test_status_names():
     assert jc.status_message(0) == "ok"
     assert jc.status_message(2) == "interaction_breakdown"
