@@ -6,7 +6,7 @@ and XLA compiles a new program for every new length of the load array (seconds, 
 fraction of a millisecond to run it). So the program is a plain `jax.jit` of the scene's leaves,
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
 load arrays are padded to a few bucket lengths: a user who calls with 7, 30 and 200 loads
-compiles the solve twice (32 and 256), and only a cheap slice per length.
+compiles the solve twice (32 and 224), and only a cheap slice per length.
 """
 
 from __future__ import annotations
@@ -21,11 +21,23 @@ import numpy as np
 SMALLEST_BUCKET = 32
 
 
+QUARTERS_FROM = 128
+
+
 def bucket(size: int) -> int:
-    """The padded length for `size` loads: a single load as it is, else the next power of two ≥ 32."""
+    """The padded length for `size` loads: a single load as it is; else the next power of two
+    ≥ 32 up to 128, and above that the next of 2^k · (5/4, 6/4, 7/4, 2).
+
+    Below 128 loads an eager call's cost is dispatch, not arithmetic, and one length per octave
+    keeps compilations few; above, padding costs arithmetic (up to 2x at a power of two), and
+    quarter octaves bound it to 1.25x for at most four compilations per octave.
+    """
     if size <= 1:
         return size
-    return max(SMALLEST_BUCKET, 1 << (size - 1).bit_length())
+    if size <= QUARTERS_FROM:
+        return max(SMALLEST_BUCKET, 1 << (size - 1).bit_length())
+    quarter = 1 << ((size - 1).bit_length() - 3)  # an eighth of the next power of two ≥ size
+    return -(-size // quarter) * quarter
 
 
 class _Program:
