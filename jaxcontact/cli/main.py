@@ -140,7 +140,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scene", help="scene TOML supplying the parameters that are not fitted (default: embedded)")
     p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
     p.add_argument("--method", choices=("bfgs", "lbfgs", "lm"), default="bfgs", help="optimiser (default: bfgs)")
-    p.add_argument("--starts", type=int, default=12, help="number of starts optimised together (default: 12)")
+    p.add_argument("--starts", type=int, default=12, help="number of starts (default: 12)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
 
