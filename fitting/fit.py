@@ -2,9 +2,10 @@
 
 The loss is on log stiffness (relative errors, as measurement noise on K usually is):
 `r_i = ln K_model(F_i; θ) - ln K_i`. Several starts, spread over the parameter bounds, are
-optimised one after another inside one compiled program and the best is kept. Uncertainty is the Gauss–Newton covariance
-at the optimum, `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in statistical coordinates (D and
-ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 % intervals.
+optimised one after another inside one compiled program and the best is kept. Uncertainty is the
+Gauss–Newton covariance at the optimum, `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in
+statistical coordinates (D and ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 %
+intervals.
 
 Data points that the model cannot evaluate at a trial θ (interaction breakdown, load out of
 range) contribute a constant residual `FLAGGED_RESIDUAL` with no gradient, so that no start can
@@ -130,7 +131,7 @@ ALIASES = {"lbfgs": "bfgs"}
 # starts to a multiple of this many (padding starts are skipped and dropped),
 # so that fits of curves of different lengths, with different numbers of starts and different
 # fixed parameter values (the scene's floats are traced), share one compiled optimiser. With
-# interaction "paper" it takes ~20 s (LM or BFGS) to compile, and a fit 0.01-0.5 s to run.
+# interaction "paper" it takes ~25-30 s (LM or BFGS) to compile, and a fit 0.07-0.2 s to run.
 POINTS_MULTIPLE = 64
 STARTS_MULTIPLE = 16
 
@@ -163,10 +164,10 @@ def _multistart(method, scene, params, data, u0s, active, max_iter, tol):
     def skip(u0):  # the outputs' types written out: `eval_shape(run)` would trace the model again
         return u0, jnp.zeros((), u0.dtype), jnp.zeros((), jnp.int32), jnp.array(False)
 
-    # One start after another (`lax.map`), not vmapped: batching the optimiser's loop around the
-    # model's own root-finding loops made tracing and compiling slower (first LM fit 42 s against
-    # 30 s), and every lane ran until the slowest start converged (a warm fit 0.26-0.41 s against
-    # 0.08 s). A padding start is skipped by a branch that, outside vmap, is really not taken.
+    # One start after another (`lax.map`), not vmapped: vmap would batch the optimiser's loop
+    # around the model's own root-finding loops, which is slower to trace and to compile, and
+    # would run every start until the slowest converged. Outside vmap the branch that skips a
+    # padding start is really not taken.
     return jax.lax.map(lambda x: jax.lax.cond(x[1], run, skip, x[0]), (u0s, active))
 
 

@@ -5,7 +5,8 @@ import os
 os.environ.setdefault("JAX_PLATFORMS", "cpu")
 # The suite's cost is XLA compiling the model's programs, most of them run once or a few times:
 # LLVM's optimisation of the generated code is about a quarter of that compile time and buys run
-# time the tests do not need (numerics are unchanged: no fast-math at any level).
+# time the tests do not need (IEEE arithmetic at every level, no fast-math: the same numbers to
+# round-off).
 os.environ["XLA_FLAGS"] = " ".join(filter(None, [os.environ.get("XLA_FLAGS"), "--xla_backend_optimization_level=0"]))
 
 import jax  # noqa: E402

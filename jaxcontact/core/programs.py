@@ -19,8 +19,6 @@ import jax.numpy as jnp
 import numpy as np
 
 SMALLEST_BUCKET = 32
-
-
 QUARTERS_FROM = 128
 
 
