@@ -2,7 +2,8 @@
 
 The loss is on log stiffness (relative errors, as measurement noise on K usually is):
 `r_i = ln K_model(F_i; θ) - ln K_i`. Several starts, spread over the parameter bounds, are
-optimised one after another inside one compiled program and the best is kept. Uncertainty is the
+optimised one after another (scipy's optimisers on the host, `fitting.optimise`, each call one
+run of the compiled model and its Jacobian) and the best is kept. Uncertainty is the
 Gauss–Newton covariance at the optimum, `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in
 statistical coordinates (D and ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 %
 intervals.
@@ -19,24 +20,21 @@ import dataclasses
 import math
 import time
 
-import equinox as eqx
-import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core.loadcontrol import prepare
 
+from .optimise import RUNNERS, Objective
 from .parameters import FitParameter, resolve, with_stat
-from .residuals import residual_fn, stat_from_u
 from .statistics import inner_bounds, rival_optima, statistics
 
-# float64. LM's test is on the relative step, which must sit above the round-off of steps along
-# the ill-conditioned D–G valley: at 1e-12 a single start can wander for its 400 iterations on
-# ulps (it did on the 30-point bench curve), at 1e-10 it stops in 11 at the same D to 1e-10.
-DEFAULT_TOLERANCE = {"bfgs": 1e-12, "lm": 1e-10}
+# float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
+# ill-conditioned D–G valley. BFGS stops on the loss's relative progress per iteration: at an
+# optimum on a kink of the loss (see `optimise.run_bfgs`) 1e-12 left D 1e-6 short of it.
+DEFAULT_TOLERANCE = {"bfgs": 1e-15, "lm": 1e-10}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,38 +100,14 @@ class FitResult:
         }
 
 
-def _run_bfgs(residuals, n_points, u0, max_iter, tol):
-    # optimistix's BFGS: one value-and-gradient per step inside one loop (optax's L-BFGS with its
-    # zoom line search traced it three times and compiled ~2x slower); with at most seven
-    # parameters the dense inverse Hessian costs nothing.
-    def loss(u, _):
-        r = residuals(u)
-        return 0.5 * jnp.sum(r * r) / n_points
-
-    solver = optx.BFGS(rtol=tol, atol=tol)
-    sol = optx.minimise(loss, solver, u0, max_steps=max_iter, throw=False)
-    return sol.value, loss(sol.value, None), sol.stats["num_steps"], sol.result == optx.RESULTS.successful
-
-
-def _run_lm(residuals, n_points, u0, max_iter, tol):
-    solver = optx.LevenbergMarquardt(rtol=tol, atol=tol)
-    sol = optx.least_squares(lambda u, _: residuals(u), solver, u0, max_steps=max_iter, throw=False)
-    r = residuals(sol.value)
-    return sol.value, 0.5 * jnp.sum(r * r) / n_points, sol.stats["num_steps"], sol.result == optx.RESULTS.successful
-
-
-_RUNNERS = {"bfgs": _run_bfgs, "lm": _run_lm}
-METHODS = tuple(_RUNNERS)
+METHODS = tuple(RUNNERS)
 # Earlier versions ran optax's L-BFGS under this name; scripts that ask for it get BFGS.
 ALIASES = {"lbfgs": "bfgs"}
 
-# Curves are padded to a multiple of this many points (padding points weigh nothing), and the
-# starts to a multiple of this many (padding starts are skipped and dropped),
-# so that fits of curves of different lengths, with different numbers of starts and different
-# fixed parameter values (the scene's floats are traced), share one compiled optimiser. With
-# interaction "paper" it takes ~25-30 s (LM or BFGS) to compile, and a fit 0.07-0.2 s to run.
+# Curves are padded to a multiple of this many points (padding points weigh nothing, and are cut
+# off before the optimiser sees them), so that fits of curves of different lengths and with
+# different fixed parameter values (the scene's floats are traced) share one compiled model.
 POINTS_MULTIPLE = 64
-STARTS_MULTIPLE = 16
 
 
 def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
@@ -147,28 +121,9 @@ def _padded_curve(loads, stiffness, dtype):
     weights[len(loads) :] = 0.0
     return (
         jnp.asarray(_padded(loads, POINTS_MULTIPLE), dtype),
-        jnp.log(jnp.asarray(_padded(stiffness, POINTS_MULTIPLE), dtype)),
+        jnp.asarray(np.log(_padded(stiffness, POINTS_MULTIPLE)), dtype),
         jnp.asarray(weights, dtype),
     )
-
-
-@eqx.filter_jit
-def _multistart(method, scene, params, data, u0s, active, max_iter, tol):
-    residuals = residual_fn(scene, params, data)
-    n_points = jnp.sum(data[2])
-
-    def run(u0):
-        u, loss, steps, converged = _RUNNERS[method](residuals, n_points, u0, max_iter, tol)
-        return u, loss.astype(u0.dtype), steps.astype(jnp.int32), converged.astype(bool)
-
-    def skip(u0):  # the outputs' types written out: `eval_shape(run)` would trace the model again
-        return u0, jnp.zeros((), u0.dtype), jnp.zeros((), jnp.int32), jnp.array(False)
-
-    # One start after another (`lax.map`), not vmapped: vmap would batch the optimiser's loop
-    # around the model's own root-finding loops, which is slower to trace and to compile, and
-    # would run every start until the slowest converged. Outside vmap the branch that skips a
-    # padding start is really not taken.
-    return jax.lax.map(lambda x: jax.lax.cond(x[1], run, skip, x[0]), (u0s, active))
 
 
 def starting_points(params, n_starts: int, seed: int, include=None) -> np.ndarray:
@@ -205,17 +160,16 @@ def fit(
     - `loads`, `stiffness`: the measured curve, N and N/m (1-D, same length, all positive).
     - `scene`: a `jaxcontact.Scene` supplying everything that is not fitted (and one start).
     - `params`: names of the fitted float fields: any of D, G, l_min, E, nu, H, area.
-    - `method`: "bfgs" (optimistix BFGS on the mean squared log residual; "lbfgs", the name of
-      earlier versions, is an alias) or "lm" (optimistix
-      Levenberg–Marquardt on the residual vector).
+    - `method`: "bfgs" (quasi-Newton BFGS on the mean squared log residual, scipy's L-BFGS-B;
+      "lbfgs", the name of earlier versions, is an alias) or "lm" (Levenberg–Marquardt on the
+      residual vector, MINPACK through `scipy.optimize.least_squares`).
     - `n_starts`: number of starts, optimised one after another; the scene's own values are one.
       Several are needed: where a_l crosses a regime boundary as the parameters move, the loss has
-      kinks, and along the strongly correlated D–G valley a single start can stall at one. They
-      are padded to a multiple of 16 (padding starts are skipped), so that fits with 1 to 16
-      starts share one compiled optimiser.
+      kinks, and along the strongly correlated D–G valley a single start can stall at one.
     - `seed`: seed of the Latin-hypercube starts.
-    - `max_iter`, `tol`: iteration cap and tolerance (relative and absolute, on the step and the
-      loss for BFGS, on the step and residual for LM); `None` picks 1e-12 for BFGS and 1e-10 for LM in
+    - `max_iter`, `tol`: the cap on iterations (BFGS) or on evaluations of the residuals (LM), and
+      the tolerance (BFGS: on the loss's relative progress per iteration and on the gradient; LM:
+      MINPACK's `xtol`, `ftol` and `gtol`); `None` picks 1e-15 for BFGS and 1e-10 for LM in
       float64, 1e-6 in float32.
     - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
 
@@ -245,7 +199,7 @@ def fit(
     dtype = jnp.result_type(1.0)
     if tol is None:
         tol = DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6
-    own = np.asarray([float(p.u_from_stat(jnp.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p)))) for p in fitted])
+    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
     if starts is None:
         u0s = starting_points(fitted, n_starts, seed, include=own)
     else:
@@ -253,17 +207,17 @@ def fit(
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene, _ = prepare(scene, loads)
     data = _padded_curve(loads, stiffness, dtype)
-    padded = _padded(u0s, STARTS_MULTIPLE)
-    active = jnp.arange(len(padded)) < len(u0s)
-    lanes = _multistart(method, traced_scene, fitted, data, jnp.asarray(padded, dtype), active, max_iter, tol)
-    u_all, losses, counts, converged = (x[: len(u0s)] for x in lanes)
-    losses = np.asarray(losses)
+    objective = Objective(traced_scene, fitted, data, loads.size, dtype)
+    outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
+    u_all = np.stack([o.u for o in outcomes])
+    losses = np.array([o.loss for o in outcomes])
     best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.inf)))
-    stat_hat = stat_from_u(fitted, u_all[best])
+    converged = outcomes[best].converged
+    stat_hat = np.array([p.stat_from_u(x) for p, x in zip(fitted, u_all[best])])
     result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
-    success = bool(converged[best]) and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
+    success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
     warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
-    if not bool(converged[best]):
+    if not converged:
         warnings.insert(0, f"the best start did not converge in {max_iter} iterations")
     return FitResult(
         params=tuple(p.name for p in fitted),
@@ -275,7 +229,7 @@ def fit(
         residuals=result["residuals"],
         flagged=result["flagged"],
         success=success,
-        iterations=int(counts[best]),
+        iterations=outcomes[best].iterations,
         wall_time=time.perf_counter() - t0,
         warnings=tuple(warnings),
         condition_number=result["condition"],

@@ -15,6 +15,7 @@ from collections.abc import Callable
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 import jaxcontact as jc
 from jaxcontact import InputError
@@ -40,22 +41,33 @@ class FitParameter:
     def stat_bounds(self) -> tuple[float, float]:
         return (math.log(self.low), math.log(self.high)) if self.log else (self.low, self.high)
 
+    # Host numbers stay on the host (numpy): an eager JAX operation compiles on its first use.
     def to_stat(self, value):
-        return jnp.log(value) if self.log else value
+        return _numpy_or_jax(value).log(value) if self.log else value
 
     def from_stat(self, s):
-        return jnp.exp(s) if self.log else s
+        return _numpy_or_jax(s).exp(s) if self.log else s
 
-    def stat_from_u(self, u):
+    def stat_and_slope_from_u(self, u: float) -> tuple[float, float]:
+        """The statistical coordinate at optimiser coordinate `u`, and `d stat / d u`."""
         lo, hi = self.stat_bounds
+        sigmoid = 0.5 * (1.0 + math.tanh(0.5 * float(u)))  # no overflow for any u
         # Clamped: a saturated sigmoid must not land exactly on an open bound (D = 2, ν = 0.5).
-        fraction = jnp.clip(jax.nn.sigmoid(u), 1e-9, 1.0 - 1e-9)
-        return lo + (hi - lo) * fraction
+        fraction = min(max(sigmoid, 1e-9), 1.0 - 1e-9)
+        slope = (hi - lo) * sigmoid * (1.0 - sigmoid) if fraction == sigmoid else 0.0
+        return lo + (hi - lo) * fraction, slope
+
+    def stat_from_u(self, u: float) -> float:
+        return self.stat_and_slope_from_u(u)[0]
 
     def u_from_stat(self, s):
         lo, hi = self.stat_bounds
         p = (s - lo) / (hi - lo)
-        return jnp.log(p) - jnp.log1p(-p)
+        return _numpy_or_jax(p).log(p) - _numpy_or_jax(p).log1p(-p)
+
+
+def _numpy_or_jax(x):
+    return jnp if isinstance(x, jax.Array) else np
 
 
 PARAMETERS = {name: FitParameter.of(spec) for name, spec in jc.PARAMETERS.items()}

@@ -37,19 +37,6 @@ def residuals_and_status(stat, scene, params, loads, log_stiffness):
     return jnp.where(ok, jnp.log(K) - log_stiffness, missed), ok, sol.status
 
 
-def stat_from_u(params, u):
-    return jnp.stack([p.stat_from_u(u[i]) for i, p in enumerate(params)])
-
-
-def residual_fn(scene, params, data):
-    loads, log_stiffness, weights = data
-
-    def residuals(u):
-        return weights * log_residuals(stat_from_u(params, u), scene, params, loads, log_stiffness)[0]
-
-    return residuals
-
-
 @eqx.filter_jit
 def residuals_and_jacobian(stat, scene, params, loads, log_stiffness):
     """Residuals, valid mask, status and d(residual)/d(stat) at `stat` (Gauss–Newton statistics)."""

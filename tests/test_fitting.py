@@ -278,3 +278,34 @@ def test_a_curve_made_by_another_model_is_called_a_misfit(table1):
 def test_lbfgs_is_an_alias_of_bfgs(table1):
     loads, K = table1_generated(table1)
     assert fitting.fit(loads, K, make_scene(**START), method="lbfgs").method == "bfgs"
+
+
+def test_the_optimisers_jacobian_matches_finite_differences(table1):
+    """`∂r/∂u` as the optimisers see it: the model's forward-mode Jacobian in statistical
+    coordinates times the reparameterisation's slope, against central differences in `u`."""
+    from fitting.fit import _padded_curve
+    from fitting.optimise import Objective
+    from jaxcontact.core.loadcontrol import prepare
+
+    loads, K = table1_generated(table1)
+    params = fitting.resolve(("D", "G"))
+    scene, _ = prepare(make_scene(**START), loads)
+    objective = Objective(scene, params, _padded_curve(loads, K, np.float64), loads.size, np.float64)
+    u = np.array([-0.4, 0.3])
+    r, J = objective(u)
+    assert r.shape == (loads.size,)
+    h = 1e-6
+    for i in range(2):
+        step = np.eye(2)[i] * h
+        fd = (objective(u + step)[0] - objective(u - step)[0]) / (2 * h)
+        np.testing.assert_allclose(J[:, i], fd, rtol=1e-5, atol=1e-7 * np.max(np.abs(fd)))
+
+
+@pytest.mark.parametrize("name", ["D", "G"])
+def test_the_reparameterisation_slope_matches_finite_differences(name):
+    p = fitting.PARAMETERS[name]
+    for u in (-3.0, 0.2, 4.0):
+        stat, slope = p.stat_and_slope_from_u(u)
+        fd = (p.stat_from_u(u + 1e-6) - p.stat_from_u(u - 1e-6)) / 2e-6
+        assert slope == pytest.approx(fd, rel=1e-7)
+        assert p.u_from_stat(stat) == pytest.approx(u, rel=1e-9)
