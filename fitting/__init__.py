@@ -5,13 +5,14 @@ estimates, standard errors, 95 % intervals, correlations and identifiability war
 """
 
 from .data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
-from .fit import METHODS, FitResult, fit, starting_points
+from .fit import METHODS, FitResult, fit, model_stiffness, starting_points
 from .parameters import PARAMETERS, FitParameter, resolve
 from .residuals import FLAGGED_RESIDUAL, log_residuals
 from .resonance import fit_resonance
 
 __all__ = [
     "fit",
+    "model_stiffness",
     "fit_resonance",
     "FitResult",
     "METHODS",

@@ -29,6 +29,7 @@ from jaxcontact.core.loadcontrol import prepare
 
 from .optimise import RUNNERS, Objective
 from .parameters import FitParameter, resolve, with_stat
+from .residuals import residuals_and_jacobian
 from .statistics import inner_bounds, rival_optima, statistics
 
 # float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
@@ -238,3 +239,22 @@ def fit(
         method=method,
         scene=with_stat(scene, fitted, np.asarray(stat_hat)),
     )
+
+
+def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
+    """The stiffness (N/m) of `scene` at `loads`, NaN where the model flags a point or K = 0, by the
+    program that a fit of `params` compiles (its residuals against ln K = 0 are ln K): after
+    `fit(..., scene, params)` (the fitted scene is `FitResult.scene`) nothing is traced or compiled.
+    """
+    fitted = resolve(params)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    traced, _ = prepare(scene, loads)
+    dtype = jnp.result_type(1.0)
+    stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
+    stiffness = []
+    for start in range(0, loads.size, POINTS_MULTIPLE):
+        part = loads[start : start + POINTS_MULTIPLE]
+        padded, zeros, _ = _padded_curve(part, np.ones_like(part), dtype)
+        r, ok, _, _ = residuals_and_jacobian(stat, traced, fitted, padded, zeros)
+        stiffness.append(np.where(np.asarray(ok), np.exp(np.asarray(r, dtype=float)), np.nan)[: part.size])
+    return np.concatenate(stiffness)

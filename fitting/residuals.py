@@ -8,11 +8,12 @@ K = 0 (every spot plastic) contribute `ZERO_STIFFNESS_RESIDUAL`, worse than any 
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 import jaxcontact as jc
+from jaxcontact.core import exported
 
 from .parameters import with_stat
 
@@ -37,13 +38,32 @@ def residuals_and_status(stat, scene, params, loads, log_stiffness):
     return jnp.where(ok, jnp.log(K) - log_stiffness, missed), ok, sol.status
 
 
-@eqx.filter_jit
 def residuals_and_jacobian(stat, scene, params, loads, log_stiffness):
-    """Residuals, valid mask, status and d(residual)/d(stat) at `stat` (Gauss–Newton statistics)."""
+    """Residuals, valid mask, status and d(residual)/d(stat) at `stat`: the fit's one compiled
+    program (per scene structure, fitted parameters, dtype and number of points), which the
+    optimisers, the statistics and the rival-optimum check share.
 
-    def residuals(s):
-        r, ok, status = residuals_and_status(s, scene, params, loads, log_stiffness)
-        return r, (r, ok, status)
+    `scene` must have array leaves of one dtype (`jaxcontact.core.loadcontrol.prepare`).
+    """
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    args = (np.asarray(stat, loads.dtype), leaves, loads, log_stiffness)
+    key = (treedef, params, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+    if key not in _PROGRAMS:
 
-    J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
-    return r, ok, status, J
+        def flat(stat, leaves, loads, log_stiffness):
+            scene = jax.tree_util.tree_unflatten(treedef, leaves)
+
+            def residuals(s):
+                r, ok, status = residuals_and_status(s, scene, params, loads, log_stiffness)
+                return r, (r, ok, status)
+
+            J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
+            return r, ok, status, J
+
+        static = f"{treedef!r} fitting {[p.name for p in params]}"
+        _PROGRAMS[key] = exported.program("residuals_and_jacobian", static, flat, args)
+    return _PROGRAMS[key](*args)
+
+
+# Built programs, by scene structure, fitted parameters and argument shapes.
+_PROGRAMS: dict = {}

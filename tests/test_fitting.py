@@ -309,3 +309,13 @@ def test_the_reparameterisation_slope_matches_finite_differences(name):
         fd = (p.stat_from_u(u + 1e-6) - p.stat_from_u(u - 1e-6)) / 2e-6
         assert slope == pytest.approx(fd, rel=1e-7)
         assert p.u_from_stat(stat) == pytest.approx(u, rel=1e-9)
+
+
+def test_model_stiffness_is_the_solves_stiffness(table1):
+    """The fit's program evaluated against ln K = 0 gives K itself: equal to `jc.solve`'s, over
+    more loads than one padded block (70 = 64 + 6), with the out-of-range load flagged as NaN."""
+    loads = np.concatenate([np.geomspace(1e-9, 1e-4, 69), [10.0]]) * TABLE1["E"] * TABLE1["area"]
+    K = fitting.model_stiffness(table1, ("D", "G"), loads)
+    expected = np.asarray(jc.solve(table1, loads).stiffness)
+    np.testing.assert_allclose(K[:69], expected[:69], rtol=1e-12)
+    assert np.isnan(K[69]) and np.isnan(expected[69])

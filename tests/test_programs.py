@@ -48,3 +48,66 @@ def test_padded_loads_keep_their_shape(table1_scene):
 def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):
     solution = jc.solve(table1_scene, np.array([2.2, 1e12, 22.0]))  # the middle load is beyond full contact
     assert solution.status.tolist() == [0, jc.Status.LOAD_OUT_OF_RANGE, 0]
+
+
+def _counting(calls):
+    def function(x, pair):
+        calls.append(1)  # once per trace
+        return jnp.sin(x) * pair[0] + pair[1], jnp.sum(x)
+
+    return function
+
+
+def _program_args():
+    return np.linspace(0.0, 1.0, 5), (np.float32(2.0), np.arange(5, dtype=np.float32))
+
+
+def test_an_exported_program_is_read_back_without_tracing(tmp_path):
+    from jaxcontact.core import exported
+
+    x, pair = _program_args()
+    calls = []
+    with exported.exported_programs(tmp_path):
+        first = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+        assert len(calls) == 1
+        assert len(list(tmp_path.glob("demo-*.jaxexport"))) == 1
+        again = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+    assert len(calls) == 1  # read from disk: not traced again
+    expected = jax.jit(_counting([]))(x, pair)
+    for got in (first, again):
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_array_equal(got[1], expected[1])
+
+
+def test_another_static_description_or_shape_is_another_exported_program(tmp_path):
+    from jaxcontact.core import exported
+
+    x, pair = _program_args()
+    with exported.exported_programs(tmp_path):
+        exported.program("demo", "static", _counting([]), (x, pair))
+        exported.program("demo", "other", _counting([]), (x, pair))
+        exported.program("demo", "static", _counting([]), (x[:4], (pair[0], pair[1][:4])))
+    assert len(list(tmp_path.glob("demo-*.jaxexport"))) == 3
+
+
+def test_an_unreadable_exported_program_is_traced_instead(tmp_path):
+    from jaxcontact.core import exported
+
+    x, pair = _program_args()
+    with exported.exported_programs(tmp_path):
+        exported.program("demo", "static", _counting([]), (x, pair))
+        (path,) = tmp_path.glob("demo-*.jaxexport")
+        path.write_bytes(b"not an exported program")
+        calls = []
+        got = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+    assert len(calls) == 1
+    np.testing.assert_array_equal(got[0], jax.jit(_counting([]))(x, pair)[0])
+
+
+def test_without_a_directory_nothing_is_written(tmp_path, monkeypatch):
+    from jaxcontact.core import exported
+
+    monkeypatch.chdir(tmp_path)
+    x, pair = _program_args()
+    exported.program("demo", "static", _counting([]), (x, pair))(x, pair)
+    assert not list(tmp_path.rglob("*"))

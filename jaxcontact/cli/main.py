@@ -13,6 +13,7 @@ import pathlib
 import sys
 import traceback
 
+from ..core.exported import exported_programs
 from ..numerics.validate import InputError
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .compare_commands import DEFAULT_COMPARE_SCENE, add_compare_options, cmd_compare
@@ -53,19 +54,23 @@ def command_settings():
     # Sharded (multi-device) computations stay asynchronous.
     jax.config.update("jax_cpu_enable_async_dispatch", False)
     cache = os.environ.get("JAXCONTACT_CACHE", str(pathlib.Path.home() / ".cache" / "jaxcontact" / "xla"))
+    programs = None
     if cache:
         try:
             pathlib.Path(cache).mkdir(parents=True, exist_ok=True)
             jax.config.update("jax_compilation_cache_dir", cache)
             jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
             jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+            # Traced programs too (`core.exported`): the compilation cache skips XLA, not tracing.
+            programs = pathlib.Path(cache) / "exported"
         except OSError:
             pass  # a read-only home: run without the cache
     # The modules just imported live as long as the process: tracing allocates millions of
     # short-lived objects, and each full collection would otherwise walk all of jax, numpy and scipy.
     gc.freeze()
     try:
-        yield
+        with exported_programs(programs):
+            yield
     finally:
         gc.unfreeze()
         for name, value in before.items():

@@ -1,0 +1,87 @@
+"""Compiled programs kept on disk as exported StableHLO, so that a new process need not trace them.
+
+JAX's persistent compilation cache skips XLA's compilation in a new process, but not tracing: the
+cache is keyed by the traced program. For the fit's model and Jacobian tracing alone takes ~3 s,
+more than the fit itself once compiled. With a directory set (`exported_programs`, which the
+command line sets), `program` keeps each program as a `jax.export` artefact: a later process
+reads it (~0.1 s) and goes straight to compilation, which the persistent cache then also skips.
+Without a directory (the library's default) it is a plain `jax.jit`.
+
+An artefact is named by a digest of everything that fixes the program: its name and static
+configuration, the shapes and dtypes of its arguments, the JAX version, the backend, and the
+source of this package and of `fitting`, so that a changed model never reads an old program.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import logging
+import os
+import pathlib
+from collections.abc import Callable
+
+import jax
+
+logger = logging.getLogger(__name__)
+_directory: pathlib.Path | None = None
+_source_digest: str | None = None
+
+
+@contextlib.contextmanager
+def exported_programs(directory):
+    """Keep the programs built by `program` in `directory` while the context is active (`None`: do not)."""
+    global _directory
+    before = _directory
+    _directory = None if directory is None else pathlib.Path(directory)
+    try:
+        yield
+    finally:
+        _directory = before
+
+
+def _sources() -> str:
+    global _source_digest
+    if _source_digest is None:
+        digest = hashlib.sha256()
+        package = pathlib.Path(__file__).resolve().parents[1]
+        for root in (package, package.parent / "fitting"):
+            for path in sorted(root.rglob("*.py")):
+                digest.update(str(path.relative_to(root.parent)).encode())
+                digest.update(path.read_bytes())
+        _source_digest = digest.hexdigest()
+    return _source_digest
+
+
+def _key(name: str, static: str, args) -> str:
+    avals = [(tuple(x.shape), str(x.dtype)) for x in jax.tree_util.tree_leaves(args)]
+    parts = (name, static, repr(jax.tree_util.tree_structure(args)), repr(avals), jax.__version__)
+    text = "\n".join(parts + (jax.default_backend(), _sources()))
+    return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def program(name: str, static: str, function: Callable, args) -> Callable:
+    """`jax.jit(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
+    written to the directory of `exported_programs` when one is set.
+
+    `static` must describe everything `function` closes over that changes the program (the
+    scene's tree structure, the fitted parameters' names). Any failure to read or write an
+    artefact falls back to tracing, with a log message.
+    """
+    jitted = jax.jit(function)
+    if _directory is None:
+        return jitted
+    path = _directory / f"{name}-{_key(name, static, args)}.jaxexport"
+    try:
+        if path.exists():
+            exported = jax.export.deserialize(bytearray(path.read_bytes()))
+        else:
+            exported = jax.export.export(jitted)(*args)
+            _directory.mkdir(parents=True, exist_ok=True)
+            partial = path.with_suffix(f".{os.getpid()}.partial")
+            partial.write_bytes(exported.serialize())
+            partial.replace(path)  # atomic: a concurrent reader sees all of it or nothing
+    except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
+        logger.info("exported program %s not used (%s: %s); tracing it", path.name, type(error).__name__, error)
+        return jitted
+    return jax.jit(exported.call)
