@@ -105,7 +105,7 @@ METHODS = tuple(RUNNERS)
 # Earlier versions ran optax's L-BFGS under this name; scripts that ask for it get BFGS.
 ALIASES = {"lbfgs": "bfgs"}
 
-# Curves are padded to a multiple of this many points (padding points weigh nothing, and are cut
+# Curves are padded to a multiple of this many points (the padding points are cut
 # off before the optimiser sees them), so that fits of curves of different lengths and with
 # different fixed parameter values (the scene's floats are traced) share one compiled model.
 POINTS_MULTIPLE = 64
@@ -117,13 +117,10 @@ def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
 
 
 def _padded_curve(loads, stiffness, dtype):
-    """`(loads, ln stiffness, weights)`, padded; padding points repeat the first, with weight 0."""
-    weights = _padded(np.ones_like(loads), POINTS_MULTIPLE)
-    weights[len(loads) :] = 0.0
+    """`(loads, ln stiffness)`, padded with copies of the first point (the caller cuts them off)."""
     return (
         jnp.asarray(_padded(loads, POINTS_MULTIPLE), dtype),
         jnp.asarray(np.log(_padded(stiffness, POINTS_MULTIPLE)), dtype),
-        jnp.asarray(weights, dtype),
     )
 
 
@@ -254,7 +251,7 @@ def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
     stiffness = []
     for start in range(0, loads.size, POINTS_MULTIPLE):
         part = loads[start : start + POINTS_MULTIPLE]
-        padded, zeros, _ = _padded_curve(part, np.ones_like(part), dtype)
+        padded, zeros = _padded_curve(part, np.ones_like(part), dtype)
         r, ok, _, _ = residuals_and_jacobian(stat, traced, fitted, padded, zeros)
         stiffness.append(np.where(np.asarray(ok), np.exp(np.asarray(r, dtype=float)), np.nan)[: part.size])
     return np.concatenate(stiffness)

@@ -4,10 +4,9 @@ The model is compiled once per static configuration, as residuals *and* their Ja
 (`residuals.residuals_and_jacobian`, forward mode over the fitted parameters), and the
 optimisers run on the host, one call per trial point. The same compiled function then gives
 the Gauss–Newton statistics at the optimum and the misfit of rival optima. An optimiser compiled
-around the model (optimistix's, inside `jit`) would compile the model a second and third time
-(inside its loop, for the gradient and the trial points), which took three times as long as the
-whole fit takes now; with two to seven parameters a step on the host costs nothing next to the
-model.
+around the model (optimistix's, inside `jit`) compiles the model inside its loop, and the
+statistics compile it once more: about three times the compilation (docs/fitting.md). With two
+to seven parameters a step on the host costs nothing next to the model.
 """
 
 from __future__ import annotations
@@ -33,7 +32,7 @@ class Outcome:
 
 
 class Objective:
-    """The weighted residuals `r(u)` and their Jacobian `∂r/∂u` at the real (unpadded) points.
+    """The residuals `r(u)` and their Jacobian `∂r/∂u` at the curve's points (the padding cut off).
 
     `u` are the optimiser coordinates (`FitParameter.stat_from_u`); `r` and `∂r/∂stat` come from
     the one compiled `residuals_and_jacobian`, and `∂stat/∂u` is applied here. The last point is
@@ -42,20 +41,18 @@ class Objective:
 
     def __init__(self, scene, params: tuple[FitParameter, ...], data, n_points: int, dtype):
         self.scene, self.params, self.data, self.n_points, self.dtype = scene, params, data, n_points, dtype
-        self.evaluations = 0
         self._last = None
 
     def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
-        u = np.asarray(u, dtype=float)
+        u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
         if self._last is not None and np.array_equal(self._last[0], u):
             return self._last[1]
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
-        loads, log_stiffness, _ = self.data
+        loads, log_stiffness = self.data
         r, _, _, J = residuals_and_jacobian(np.asarray(stat, self.dtype), self.scene, self.params, loads, log_stiffness)
         n = self.n_points
         r = np.asarray(r, dtype=float)[:n]
         J = np.asarray(J, dtype=float)[:n] * np.asarray(slope)
-        self.evaluations += 1
         self._last = (u, (r, J))
         return r, J
 

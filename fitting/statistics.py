@@ -34,7 +34,7 @@ def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
     if not np.all(np.isfinite(covariance)):
         return []
     used = np.isfinite(result["residuals"])
-    padded_loads, log_stiffness, _ = data
+    padded_loads, log_stiffness = data
 
     def rss_at(stat):
         r = np.asarray(residuals_and_jacobian(stat, scene, params, padded_loads, log_stiffness)[0])
@@ -80,7 +80,7 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
 
     `loads` is the curve as given; `data` is `_padded_curve`'s, whose padding is cut off here.
     """
-    padded_loads, log_stiffness, _ = data
+    padded_loads, log_stiffness = data
     r, ok, status, J = (
         np.asarray(x)[: loads.size]
         for x in residuals_and_jacobian(stat_hat, scene, params, padded_loads, log_stiffness)
