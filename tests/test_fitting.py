@@ -155,10 +155,11 @@ def test_result_is_complete_and_serialisable(table1):
     # The curve is padded to 64 points with copies of its first point: they must weigh nothing.
     np.testing.assert_allclose(result.loss, 0.5 * np.mean(result.residuals**2), rtol=1e-12)
     reversed_ = fitting.fit(loads[::-1], K[::-1], make_scene(**START))
-    # To the optimiser's precision along the ill-conditioned D–G valley (its tolerance is 1e-12 on
-    # the loss and the step; G's relative uncertainty here is ~1e-1).
+    # To the optimiser's precision: BFGS stops on the loss's relative progress (1e-15), which fixes
+    # a point along the ill-conditioned D–G valley to about √1e-15 ≈ 3e-8 (G's relative
+    # uncertainty here is ~1e-1). With scipy 1.12 the two land 3e-8 apart in G, with 1.17 closer.
     np.testing.assert_allclose(
-        [reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]], rtol=1e-8
+        [reversed_.values["D"], reversed_.values["G"]], [result.values["D"], result.values["G"]], rtol=1e-7
     )
     json.dumps(result.to_dict())
     assert isinstance(result.scene, jc.Scene)

@@ -22,6 +22,7 @@ import pathlib
 from collections.abc import Callable
 
 import jax
+from jax import export  # a submodule that older JAX does not import with `jax`
 
 logger = logging.getLogger(__name__)
 _directory: pathlib.Path | None = None
@@ -74,9 +75,9 @@ def program(name: str, static: str, function: Callable, args) -> Callable:
     path = _directory / f"{name}-{_key(name, static, args)}.jaxexport"
     try:
         if path.exists():
-            exported = jax.export.deserialize(bytearray(path.read_bytes()))
+            exported = export.deserialize(bytearray(path.read_bytes()))
         else:
-            exported = jax.export.export(jitted)(*args)
+            exported = export.export(jitted)(*args)
             _directory.mkdir(parents=True, exist_ok=True)
             partial = path.with_suffix(f".{os.getpid()}.partial")
             partial.write_bytes(exported.serialize())
