@@ -216,7 +216,10 @@ def fit(
     success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
     warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
     if not converged:
-        warnings.insert(0, f"the best start did not converge in {max_iter} iterations")
+        # Not only the cap: a line search can also end where the tolerance is not met.
+        warnings.insert(
+            0, f"the best start did not converge ({outcomes[best].iterations} iterations, at most {max_iter})"
+        )
     return FitResult(
         params=tuple(p.name for p in fitted),
         values=result["values"],

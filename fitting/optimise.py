@@ -97,7 +97,7 @@ def run_bfgs(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
 
     def loss_and_gradient(u):
         r, J = objective(u)
-        return 0.5 * float(r @ r) / objective.n_points, J.T @ r / objective.n_points
+        return objective.loss(u), J.T @ r / objective.n_points
 
     sol = optimize.minimize(
         loss_and_gradient,

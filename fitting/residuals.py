@@ -60,8 +60,8 @@ def residuals_and_jacobian(stat, scene, params, loads, log_stiffness):
             J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
             return r, ok, status, J
 
-        static = f"{treedef!r} fitting {[p.name for p in params]}"
-        _PROGRAMS[key] = exported.program("residuals_and_jacobian", static, flat, args)
+        static = f"fitting {[p.name for p in params]}"
+        _PROGRAMS[key] = exported.program("residuals_and_jacobian", static, flat, args, closed_over=(treedef,))
     return _PROGRAMS[key](*args)
 
 

@@ -111,3 +111,23 @@ def test_without_a_directory_nothing_is_written(tmp_path, monkeypatch):
     x, pair = _program_args()
     exported.program("demo", "static", _counting([]), (x, pair))(x, pair)
     assert not list(tmp_path.rglob("*"))
+
+
+def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_program(tmp_path, monkeypatch):
+    """A model defined outside the package: editing its file must not read the old program."""
+    import importlib
+
+    from jaxcontact.core import exported
+
+    source = tmp_path / "outside_model.py"
+    source.write_text("import equinox as eqx\n\n\nclass Outside(eqx.Module):\n    scale: float = 2.0\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = importlib.import_module("outside_model")
+    treedef = jax.tree_util.tree_structure(module.Outside())
+    x, pair = _program_args()
+    store = tmp_path / "store"
+    with exported.exported_programs(store):
+        exported.program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
+        source.write_text(source.read_text() + "# edited\n")
+        exported.program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
+    assert len(list(store.glob("demo-*.jaxexport"))) == 2

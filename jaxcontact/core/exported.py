@@ -8,8 +8,9 @@ reads it (~0.1 s) and goes straight to compilation, which the persistent cache t
 Without a directory (the library's default) it is a plain `jax.jit`.
 
 An artefact is named by a digest of everything that fixes the program: its name and static
-configuration, the shapes and dtypes of its arguments, the JAX version, the backend, and the
-source of this package and of `fitting`, so that a changed model never reads an old program.
+configuration, the shapes and dtypes of its arguments, the JAX version, the backend, the source
+of this package and of `fitting`, and the source files of the classes in the trees it closes over
+(a model defined elsewhere), so that a changed model never reads an old program.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import hashlib
 import logging
 import os
 import pathlib
+import sys
 from collections.abc import Callable
 
 import jax
@@ -54,26 +56,48 @@ def _sources() -> str:
     return _source_digest
 
 
-def _key(name: str, static: str, args) -> str:
+def _node_types(treedef):
+    data = treedef.node_data()
+    if data is not None:
+        yield data[0]
+    for child in treedef.children():
+        yield from _node_types(child)
+
+
+def _classes(treedefs) -> str:
+    """The qualified names and source files of the tree nodes' classes: a model defined outside
+    this package changes the key when its own file changes."""
+    types = {t for treedef in treedefs for t in _node_types(treedef)}
+    names = sorted(f"{t.__module__}.{t.__qualname__}" for t in types)
+    files = sorted({getattr(sys.modules.get(t.__module__), "__file__", None) or "" for t in types} - {""})
+    digest = hashlib.sha256("\n".join(names).encode())
+    for file in files:
+        digest.update(pathlib.Path(file).read_bytes())
+    return digest.hexdigest()
+
+
+def _key(name: str, static: str, args, closed_over) -> str:
     avals = [(tuple(x.shape), str(x.dtype)) for x in jax.tree_util.tree_leaves(args)]
-    parts = (name, static, repr(jax.tree_util.tree_structure(args)), repr(avals), jax.__version__)
+    treedefs = (jax.tree_util.tree_structure(args), *closed_over)
+    parts = (name, static, *map(repr, treedefs), _classes(treedefs), repr(avals), jax.__version__)
     text = "\n".join(parts + (jax.default_backend(), _sources()))
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def program(name: str, static: str, function: Callable, args) -> Callable:
+def program(name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
     """`jax.jit(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
     written to the directory of `exported_programs` when one is set.
 
     `static` must describe everything `function` closes over that changes the program (the
-    scene's tree structure, the fitted parameters' names). Any failure to read or write an
-    artefact falls back to tracing, with a log message.
+    fitted parameters' names), and `closed_over` holds the tree structures it closes over (the
+    scene's), whose classes' source files join the key. Any failure to read or write an artefact
+    falls back to tracing, with a log message.
     """
     jitted = jax.jit(function)
     if _directory is None:
         return jitted
-    path = _directory / f"{name}-{_key(name, static, args)}.jaxexport"
     try:
+        path = _directory / f"{name}-{_key(name, static, args, closed_over)}.jaxexport"
         if path.exists():
             exported = export.deserialize(bytearray(path.read_bytes()))
         else:
@@ -83,6 +107,6 @@ def program(name: str, static: str, function: Callable, args) -> Callable:
             partial.write_bytes(exported.serialize())
             partial.replace(path)  # atomic: a concurrent reader sees all of it or nothing
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
-        logger.info("exported program %s not used (%s: %s); tracing it", path.name, type(error).__name__, error)
+        logger.info("exported program %s not used (%s: %s); tracing it", name, type(error).__name__, error)
         return jitted
     return jax.jit(exported.call)
