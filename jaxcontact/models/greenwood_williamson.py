@@ -23,7 +23,6 @@ import math
 from typing import ClassVar
 
 import jax.numpy as jnp
-from scipy import special
 
 from ..core.status import Status
 from ..numerics.rootfind import solve_increasing
@@ -40,6 +39,8 @@ LAGUERRE_NODES = 96
 
 @functools.cache
 def _laguerre(order: float):
+    from scipy import special  # only where GW is used: scipy.special takes ~0.3 s to import
+
     return special.roots_genlaguerre(LAGUERRE_NODES, order)
 
 

@@ -18,6 +18,7 @@ exact to round-off right up to breakdown.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import equinox as eqx
@@ -35,6 +36,7 @@ DEGREE = 20
 _LOG_SWITCH = math.log(0.5)
 
 
+@functools.cache  # built on first use, not at import (~0.1 s)
 def _economisation(terms: int) -> np.ndarray:
     """Matrix taking the coefficients of `Σ c_n x^n` (n < terms, x in [0, 1/2]) to those of its
     degree-`DEGREE` Chebyshev truncation, as a polynomial in `y = 4x - 1`."""
@@ -44,10 +46,6 @@ def _economisation(terms: int) -> np.ndarray:
         monomial = np.polynomial.chebyshev.cheb2poly(chebyshev[: DEGREE + 1])
         matrix[n, : len(monomial)] = monomial
     return matrix
-
-
-_NEAR_ZERO_ECONOMISATION = _economisation(NEAR_ZERO_TERMS)
-_NEAR_ONE_ECONOMISATION = _economisation(NEAR_ONE_TERMS + 1)
 
 
 # The coefficients are built from reductions (`sum`, `prod`), not from chains of elementwise
@@ -70,8 +68,8 @@ def _coefficients(power):
     binomial = jnp.prod(jnp.where(below, factors[..., :, None], 1.0), axis=-2)
     signs = np.where(np.arange(NEAR_ONE_TERMS) % 2 == 0, 1.0, -1.0)
     near_one = jnp.concatenate([jnp.zeros_like(power)[..., None], binomial * signs / k], axis=-1)
-    near_zero = _economise(1.0 / (power[..., None] + 1.0 + n), _NEAR_ZERO_ECONOMISATION)
-    near_one = _economise(near_one, _NEAR_ONE_ECONOMISATION)
+    near_zero = _economise(1.0 / (power[..., None] + 1.0 + n), _economisation(NEAR_ZERO_TERMS))
+    near_one = _economise(near_one, _economisation(NEAR_ONE_TERMS + 1))
     # H_p from the two expansions meeting at u = 1/2 (y = 1: the sums of the coefficients): no
     # digamma, and J_p is continuous across the switch to the last bit.
     harmonic = (
