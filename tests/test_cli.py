@@ -256,6 +256,28 @@ def test_flagged_loads_are_marked_on_the_load_axis_not_drawn_as_values(tmp_path,
     np.testing.assert_allclose(marks.get_xdata(), np.asarray(solution.load_star)[2:])
 
 
+def test_a_zero_stiffness_is_marked_on_the_load_axis_not_drawn_on_the_log_axis(tmp_path, monkeypatch):
+    import warnings
+
+    import equinox as eqx
+
+    from jaxcontact.cli import plots
+
+    figures = []
+    monkeypatch.setattr(plots, "save_figure", lambda fig, path: figures.append(fig) or str(path))
+    loads = np.array([1e-6, 1e-5, 1e-4]) * TABLE1["E"] * TABLE1["area"]
+    solution = jc.solve(make_scene(**TABLE1), loads)
+    # Every spot plastic at the first load (K = 0 is a valid value, Sec. 4.2).
+    solution = eqx.tree_at(lambda s: s.stiffness, solution, solution.stiffness.at[0].set(0.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # matplotlib warns of non-positive values on a log axis
+        plots.plot_sweep(solution, "t", tmp_path)
+        figures[0].canvas.draw()
+    values, marks = figures[0].axes[0].lines
+    np.testing.assert_allclose(values.get_ydata(), np.asarray(solution.stiffness_star)[1:])
+    np.testing.assert_allclose(marks.get_xdata(), np.asarray(solution.load_star)[:1])
+
+
 def test_version(capsys):
     with pytest.raises(SystemExit) as exit_info:
         main(["--version"])

@@ -53,24 +53,31 @@ def save_figure(fig, path) -> str:
     return str(path)
 
 
-def _mark_flagged(ax, F, flagged, status):
-    """Flagged loads as ticks along the bottom of the axes, at their loads: never at a made-up value."""
-    if flagged.any():
+def _mark_loads(ax, F, mask, label, color="C3"):
+    """Loads without a value to draw, as ticks along the bottom of the axes at their loads."""
+    if mask.any():
         ax.plot(
-            F[flagged],
-            np.full(flagged.sum(), 0.02),
+            F[mask],
+            np.full(mask.sum(), 0.02),
             "|",
             ms=12,
-            color="C3",
+            color=color,
             transform=ax.get_xaxis_transform(),
-            label=flagged_reasons(status) + " (no value)",
+            label=label,
         )
+
+
+def _mark_flagged(ax, F, flagged, status):
+    """Flagged loads as ticks along the load axis: never at a made-up value."""
+    if flagged.any():
+        _mark_loads(ax, F, flagged, flagged_reasons(status) + " (no value)")
 
 
 def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
     """Stiffness and largest spot against load (and regime shares if computed); returns the paths.
 
-    Only valid points are drawn as values; flagged loads are marked along the load axis.
+    Only valid points are drawn as values; flagged loads, and loads where K = 0, are marked along
+    the load axis.
     """
     out.mkdir(parents=True, exist_ok=True)
     F = np.asarray(solution.load_star)
@@ -79,12 +86,16 @@ def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
     paths = []
 
     fig, ax = subplots(figsize=(6, 4.2))
-    if ok.any():
-        ax.loglog(F[ok], np.asarray(solution.stiffness_star)[ok], "o-", ms=3, label="K*")
+    K = np.asarray(solution.stiffness_star)
+    # K = 0 (every spot plastic, Sec. 4.2) is a valid value that a log axis cannot show.
+    positive = ok & (K > 0)
+    if positive.any():
+        ax.loglog(F[positive], K[positive], "o-", ms=3, label="K*")
     else:
         ax.set_xscale("log")
-        ax.text(0.5, 0.5, "no valid stiffness at any load", transform=ax.transAxes, ha="center")
+        ax.text(0.5, 0.5, "no positive stiffness at any load", transform=ax.transAxes, ha="center")
     _mark_flagged(ax, F, ~ok, status)
+    _mark_loads(ax, F, ok & (K == 0), "K = 0: every spot plastic", color="C7")
     ax.set(xlabel="F* = F / (E A_a)", ylabel="K* = K / (E sqrt(A_a))", title=title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
