@@ -34,7 +34,9 @@ print(json.dumps({"devices": sharded.devices,
 
 
 def test_two_devices_equal_unsharded():
-    env = {**os.environ, "XLA_FLAGS": "--xla_force_host_platform_device_count=2", "JAX_PLATFORMS": "cpu"}
+    # The suite's own XLA flags (conftest) kept: the child compiles as the tests do.
+    flags = f"{os.environ.get('XLA_FLAGS', '')} --xla_force_host_platform_device_count=2".strip()
+    env = {**os.environ, "XLA_FLAGS": flags, "JAX_PLATFORMS": "cpu"}
     out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, env=env, cwd=ROOT, check=True)
     result = json.loads(out.stdout.strip().splitlines()[-1])
     assert result["devices"] == 2
