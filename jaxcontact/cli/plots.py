@@ -16,9 +16,9 @@ from ..core.solution import Solution
 from .report import flagged_reasons
 
 # Margins in inches, fixed: an automatic layout (`tight_layout`) measures every tick label before
-# the figure is drawn, which doubles the cost of writing it (~0.3 s a figure; a warm
-# `jaxcontact run` writes three). These fit the longest labels drawn here (log-axis powers of ten, three
-# lines of title at 8 pt); the gaps between panels hold a tick label and an axis label.
+# the figure is drawn, which doubles the cost of writing it (~0.3 s a figure; a warm `jaxcontact
+# run` writes three). These fit the longest labels drawn here (log-axis powers of ten, three lines
+# of title at 8 pt); the gaps between panels hold a tick label and an axis label.
 MARGINS = dict(left=0.95, right=0.25, bottom=0.6, top=0.55, between_columns=0.9, between_rows=0.35)
 
 
