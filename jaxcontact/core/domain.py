@@ -158,10 +158,20 @@ def scene_fields(scene) -> tuple:
     return tuple(p.get(scene) for p in PARAMETERS.values())
 
 
+def valid_fields(scene) -> dict:
+    """Per float parameter of a (possibly traced) scene, whether it is valid; `l_min` and `area`
+    also need `l_min² < area`."""
+    values = dict(zip(PARAMETERS, scene_fields(scene)))
+    valid = {name: jnp.isfinite(values[name]) & spec.contains(values[name]) for name, spec in PARAMETERS.items()}
+    pair = values["l_min"] * values["l_min"] < values["area"]
+    valid["l_min"], valid["area"] = valid["l_min"] & pair, valid["area"] & pair
+    return valid
+
+
 def inside_domain(scene):
     """Whether every float parameter of a (possibly traced) scene is valid, and `l_min² < area`."""
-    values = dict(zip(PARAMETERS, scene_fields(scene)))
-    inside = jnp.asarray(True)
-    for name, spec in PARAMETERS.items():
-        inside = inside & jnp.isfinite(values[name]) & spec.contains(values[name])
-    return inside & (values["l_min"] * values["l_min"] < values["area"])
+    valid = list(valid_fields(scene).values())
+    inside = valid[0]
+    for v in valid[1:]:
+        inside = inside & v
+    return inside

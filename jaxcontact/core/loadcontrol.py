@@ -22,7 +22,7 @@ from ..numerics.elementwise import unrolled_sum
 from ..numerics.validate import InputError, concrete
 from . import programs
 from .defaults import table1_values
-from .domain import PARAMETERS, inside_domain, scene_fields
+from .domain import PARAMETERS, inside_domain, scene_fields, valid_fields
 from .scales import Scales, nondimensionalise
 from .scene import Scene
 from .solution import Solution, is_solved, masked_rescale
@@ -66,18 +66,21 @@ def _working_dtype(leaves, loads, memo=None):
 
 
 def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
-    """The scene, with stand-in values if any float parameter is outside its domain; and whether none is.
+    """The scene, with a stand-in value for each float parameter outside its domain; and whether none is.
 
     Traced parameters cannot be checked at construction (an optimiser may step to D = 2).
     Evaluated as they are, such parameters give NaN, and a NaN inside the computation leaks into
-    gradients even where the result is masked (0 · NaN). Evaluated at a valid stand-in (and
+    gradients even where the result is masked (0 · NaN). Evaluated at valid stand-ins (and
     flagged), masked points contribute exactly zero.
     """
-    inside = inside_domain(scene)
-    # Any valid scene will do as the stand-in: the default one.
+    valid = valid_fields(scene)
+    # Any valid value will do as a stand-in: the default scene's. Each parameter is replaced on
+    # its own check, not on the whole scene's: XLA copies the check into every fusion that reads
+    # the parameter, and in a gradient the whole scene's check, copied hundreds of times, was a
+    # third of the program.
     stand_in = table1_values()
-    values = tuple(jnp.where(inside, x, stand_in[name]) for x, name in zip(scene_fields(scene), PARAMETERS))
-    return eqx.tree_at(scene_fields, scene, values), inside
+    values = tuple(jnp.where(valid[name], x, stand_in[name]) for x, name in zip(scene_fields(scene), PARAMETERS))
+    return eqx.tree_at(scene_fields, scene, values), inside_domain(scene)
 
 
 def point_solver(scene: Scene):
