@@ -22,6 +22,13 @@ def test_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
     assert _compiled_lengths(scene) == 2
 
 
+def test_an_eager_call_inside_a_callers_jit_gives_what_it_gives_outside(table1_scene):
+    # Concrete scene and loads, yet inside a trace: the program must not ask for compile options there.
+    loads = np.geomspace(2.2, 2200.0, 7)
+    inside = jax.jit(lambda: jc.solve(table1_scene, loads).stiffness)()
+    np.testing.assert_allclose(inside, jc.solve(table1_scene, loads).stiffness, rtol=1e-14)
+
+
 def test_buckets_are_octaves_to_128_loads_and_quarter_octaves_above():
     sizes = (1, 2, 32, 33, 128, 129, 160, 161, 200, 256, 257, 5000)
     assert [programs.bucket(n) for n in sizes] == [1, 32, 32, 64, 128, 160, 160, 192, 224, 256, 320, 5120]

@@ -92,6 +92,11 @@ def test_wrong_types():
         jc.Surface(D=True, G=1e-10)
 
 
+def test_solve_names_an_argument_that_is_not_a_scene():
+    with pytest.raises(jc.InputError, match=r"scene = None must be a Scene"):
+        jc.solve(None, 10.0)
+
+
 def test_a_scene_with_array_parameters_is_refused_by_solve_with_the_way_to_batch():
     scene = jc.Scene(jc.Surface(D=[1.3, 1.4], G=1e-10), jc.Material(2e11, 0.3, 1e11), 1e-4)
     with pytest.raises(jc.InputError, match=r"D has shape \(2,\): solve takes one scene.*jax.vmap"):

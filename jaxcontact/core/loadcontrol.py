@@ -18,8 +18,9 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..models.base import PointResult
+from ..numerics.compat import top_level
 from ..numerics.elementwise import unrolled_sum
-from ..numerics.validate import InputError, concrete
+from ..numerics.validate import InputError, check_instance, concrete
 from . import programs
 from .defaults import table1_values
 from .domain import PARAMETERS, inside_domain, scene_fields, valid_fields
@@ -166,38 +167,44 @@ def _on_host(array: jax.Array) -> bool:
 
 # The scene of the last eager call, flattened, checked and cast per working dtype: a user who
 # calls `solve` in a loop on one scene pays for that once. Scenes are immutable, and the strong
-# reference kept here makes the identity test sound. Traced scenes are never kept.
+# reference kept here makes the identity test sound. Nothing made inside a trace is kept: arrays
+# made there (even from a concrete scene a caller's `jit` closes over) belong to that trace.
 _last_scene: dict = {}
 
 
 def _scene_leaves(scene: Scene, loads):
-    if _last_scene.get("scene") is not scene:
-        leaves, treedef = jax.tree_util.tree_flatten(scene)
-        if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
-            _check_scalar_parameters(scene)
-        entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
-        if any(isinstance(x, jax.core.Tracer) for x in leaves):
-            return _cast(entry, loads)
-        _last_scene.clear()
-        _last_scene.update(entry)
-    return _cast(_last_scene, loads)
+    keep = top_level()
+    if "scene" in _last_scene and _last_scene["scene"] is scene:
+        return _cast(_last_scene, loads, keep)
+    check_instance("scene", scene, Scene)
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
+        _check_scalar_parameters(scene)
+    entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
+    if not keep or any(isinstance(x, jax.core.Tracer) for x in leaves):
+        return _cast(entry, loads, keep=False)
+    _last_scene.clear()
+    _last_scene.update(entry)
+    return _cast(_last_scene, loads, keep)
 
 
-def _cast(entry: dict, loads):
+def _cast(entry: dict, loads, keep: bool):
     dtype = _working_dtype(entry["leaves"], loads, entry["dtypes"])
-    if dtype not in entry["cast"]:
+    cast = entry["cast"].get(dtype)
+    if cast is None:
         leaves = entry["leaves"]
         # Leaves already of the working dtype are passed through: no conversion of each. Weakly
         # typed ones (a scene built from Python floats) are made strong, so that it shares its
         # compiled program with the same scene built from numpy or JAX values.
-        cast = [
+        arrays = [
             x if isinstance(x, jax.Array) and x.dtype == dtype and not x.weak_type else jnp.asarray(x, dtype)
             for x in leaves
         ]
-        unchanged = all(a is b for a, b in zip(cast, leaves))
-        scene = entry["scene"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], cast)
-        entry["cast"][dtype] = (scene, cast)
-    return dtype, *entry["cast"][dtype], entry["treedef"]
+        unchanged = all(a is b for a, b in zip(arrays, leaves))
+        cast = (entry["scene"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], arrays), arrays)
+        if keep:
+            entry["cast"][dtype] = cast
+    return dtype, *cast, entry["treedef"]
 
 
 def _prepare(scene: Scene, loads):

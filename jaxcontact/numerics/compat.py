@@ -12,3 +12,15 @@ def x64(enabled: bool):
     if context is None:
         from jax.experimental import enable_x64 as context
     return context(enabled)
+
+
+try:  # JAX has no public test for "not inside a trace"; its private one, where it exists
+    from jax._src.core import trace_state_clean as _trace_state_clean
+except ImportError:
+    _trace_state_clean = None
+
+
+def top_level() -> bool:
+    """Whether no transformation (`jit`, `grad`, `vmap`, ...) is tracing; `False` where this JAX
+    cannot say (callers then take the path that also works inside a trace)."""
+    return _trace_state_clean is not None and _trace_state_clean()
