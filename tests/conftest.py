@@ -9,9 +9,11 @@ os.environ.setdefault("JAX_PLATFORMS", "cpu")
 # time the tests do not need (IEEE arithmetic at every level, no fast-math: the same numbers to
 # round-off: checked by the whole suite on jaxlib 0.10). Older jaxlib compiles as usual: on 0.6.2,
 # the lowest declared version, this level put GW's D-derivative 50 % off its finite difference.
+# The classic loop emitters too (the package's own programs ask for them, `core.programs`; the
+# tests' `jit`s of gradients and Jacobians are the tests' own programs, and the costliest).
 JAXLIB = tuple(int(x) for x in importlib.metadata.version("jaxlib").split(".")[:2])
 if JAXLIB >= (0, 10):
-    flags = [os.environ.get("XLA_FLAGS"), "--xla_backend_optimization_level=0"]
+    flags = [os.environ.get("XLA_FLAGS"), "--xla_backend_optimization_level=0", "--xla_cpu_use_fusion_emitters=false"]
     os.environ["XLA_FLAGS"] = " ".join(filter(None, flags))
 
 import jax  # noqa: E402

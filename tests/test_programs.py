@@ -6,7 +6,7 @@ import numpy as np
 from conftest import TABLE1, make_scene
 
 import jaxcontact as jc
-from jaxcontact.core import loadcontrol, programs
+from jaxcontact.core import compiling, loadcontrol, programs
 
 
 def _compiled_lengths(scene):
@@ -27,6 +27,16 @@ def test_an_eager_call_inside_a_callers_jit_gives_what_it_gives_outside(table1_s
     loads = np.geomspace(2.2, 2200.0, 7)
     inside = jax.jit(lambda: jc.solve(table1_scene, loads).stiffness)()
     np.testing.assert_allclose(inside, jc.solve(table1_scene, loads).stiffness, rtol=1e-14)
+
+
+def test_this_jaxlib_takes_the_fast_compile_option():
+    assert compiling.compiler_options() == compiling.FAST_COMPILE
+
+
+def test_a_fast_compile_program_also_runs_inside_a_callers_jit():
+    program = compiling.FastCompile(lambda x: jnp.sin(x) * 2.0)
+    x = jnp.linspace(0.0, 1.0, 5)
+    np.testing.assert_allclose(jax.jit(lambda x: program(x) + 1.0)(x), jnp.sin(x) * 2.0 + 1.0, rtol=1e-15)
 
 
 def test_buckets_are_octaves_to_128_loads_and_quarter_octaves_above():

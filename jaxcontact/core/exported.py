@@ -5,7 +5,8 @@ cache is keyed by the traced program. For the fit's model and Jacobian tracing a
 more than the fit itself once compiled. With a directory set (`exported_programs`, which the
 command line sets), `program` keeps each program as a `jax.export` artefact: a later process
 reads it (~0.1 s) and goes straight to compilation, which the persistent cache then also skips.
-Without a directory (the library's default) it is a plain `jax.jit`.
+Without a directory (the library's default) it is a `jax.jit`. Either way it is compiled for a
+short compile time (`compiling.FastCompile`).
 
 An artefact is named by a digest of everything that fixes the program: its name and static
 configuration, the shapes and dtypes of its arguments, the JAX version, the backend, the source
@@ -25,6 +26,8 @@ from collections.abc import Callable
 
 import jax
 from jax import export  # a submodule that older JAX does not import with `jax`
+
+from .compiling import FastCompile
 
 logger = logging.getLogger(__name__)
 _directory: pathlib.Path | None = None
@@ -85,7 +88,7 @@ def _key(name: str, static: str, args, closed_over) -> str:
 
 
 def program(name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
-    """`jax.jit(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
+    """`FastCompile(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
     written to the directory of `exported_programs` when one is set.
 
     `static` must describe everything `function` closes over that changes the program (the
@@ -93,7 +96,7 @@ def program(name: str, static: str, function: Callable, args, closed_over=()) ->
     scene's), whose classes' source files join the key. Any failure to read or write an artefact
     falls back to tracing, with a log message.
     """
-    jitted = jax.jit(function)
+    jitted = FastCompile(function)
     if _directory is None:
         return jitted
     try:
@@ -101,7 +104,7 @@ def program(name: str, static: str, function: Callable, args, closed_over=()) ->
         if path.exists():
             exported = export.deserialize(bytearray(path.read_bytes()))
         else:
-            exported = export.export(jitted)(*args)
+            exported = export.export(jitted.plain)(*args)
             _directory.mkdir(parents=True, exist_ok=True)
             partial = path.with_suffix(f".{os.getpid()}.partial")
             partial.write_bytes(exported.serialize())
@@ -109,4 +112,4 @@ def program(name: str, static: str, function: Callable, args, closed_over=()) ->
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
         logger.info("exported program %s not used (%s: %s); tracing it", name, type(error).__name__, error)
         return jitted
-    return jax.jit(exported.call)
+    return FastCompile(exported.call)
