@@ -8,7 +8,9 @@ range (`loadcontrol.within_domain`), and the search bounds of `fitting`.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+import operator
 from collections.abc import Callable
 
 import jax.numpy as jnp
@@ -168,10 +170,6 @@ def valid_fields(scene) -> dict:
     return valid
 
 
-def inside_domain(scene):
-    """Whether every float parameter of a (possibly traced) scene is valid, and `l_min² < area`."""
-    valid = list(valid_fields(scene).values())
-    inside = valid[0]
-    for v in valid[1:]:
-        inside = inside & v
-    return inside
+def all_valid(valid: dict):
+    """Whether every parameter is valid, from `valid_fields`."""
+    return functools.reduce(operator.and_, valid.values())

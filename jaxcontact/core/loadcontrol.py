@@ -23,7 +23,7 @@ from ..numerics.elementwise import unrolled_sum
 from ..numerics.validate import InputError, check_instance, concrete
 from . import programs
 from .defaults import table1_values
-from .domain import PARAMETERS, inside_domain, scene_fields, valid_fields
+from .domain import PARAMETERS, all_valid, scene_fields, valid_fields
 from .scales import Scales, nondimensionalise
 from .scene import Scene
 from .solution import Solution, is_solved, masked_rescale
@@ -81,7 +81,7 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     # third of the program.
     stand_in = table1_values()
     values = tuple(jnp.where(valid[name], x, stand_in[name]) for x, name in zip(scene_fields(scene), PARAMETERS))
-    return eqx.tree_at(scene_fields, scene, values), inside_domain(scene)
+    return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
 def point_solver(scene: Scene):
