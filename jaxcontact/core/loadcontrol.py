@@ -181,7 +181,7 @@ def _scene_leaves(scene: Scene, loads):
     if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
         _check_scalar_parameters(scene)
     entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
-    if not keep or any(isinstance(x, jax.core.Tracer) for x in leaves):
+    if not keep:  # traced leaves too: they exist only inside a trace
         return _cast(entry, loads, keep=False)
     _last_scene.clear()
     _last_scene.update(entry)
