@@ -138,6 +138,24 @@ def test_console_script_reports_bad_value_without_traceback(tmp_path):
     )
 
 
+def test_console_script_output_through_a_pipe_is_complete(tmp_path):
+    from jaxcontact import topography as tp
+
+    # The executable leaves without the interpreter's teardown: a piped (block-buffered) stdout
+    # must still arrive whole.
+    data = tmp_path / "map.txt"
+    np.savetxt(data, tp.areal_map(1.5, 1e-10, 1e-3, 512, seed=0).heights())
+    out = subprocess.run(
+        [sys.executable, "-m", "jaxcontact.cli", "surface", str(data), "--size", "1e-3", "1e-3"]
+        + ["--out", str(tmp_path / "o"), "--format", "json"],
+        capture_output=True,
+        text=True,
+        env={**{k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}, "JAXCONTACT_CACHE": ""},
+    )
+    assert out.returncode == 0
+    assert 1.3 < json.loads(out.stdout)["psd"]["D"] < 1.7
+
+
 def test_figures(tmp_path, capsys, monkeypatch):
     from jaxcontact.studies import figures
 

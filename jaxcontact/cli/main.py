@@ -195,5 +195,22 @@ def main(argv=None) -> int:
         return 130
 
 
+def console() -> None:
+    """The `jaxcontact` executable: `main()`, then an exit that skips the interpreter's teardown.
+
+    Once a command has written its files, tearing down JAX's runtime and every module's objects
+    costs ~0.6 s, a sixth of a warm `jaxcontact run`. Output streams are flushed and `atexit`
+    handlers run first (logging, JAX's own), so nothing written is lost.
+    """
+    import atexit
+
+    code = main()
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):  # a closed pipe must not change the exit status
+            stream.flush()
+    atexit._run_exitfuncs()
+    os._exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    console()
