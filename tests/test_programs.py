@@ -3,6 +3,7 @@
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 from conftest import TABLE1, make_scene
 
 import jaxcontact as jc
@@ -148,3 +149,31 @@ def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_progra
         source.write_text(source.read_text() + "# edited\n")
         exported.program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
     assert len(list(store.glob("demo-*.jaxexport"))) == 2
+
+
+def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_path):
+    from jaxcontact.core import exported
+
+    # A configuration no other test uses, so that its program is not already traced here.
+    scene = make_scene(**TABLE1, interaction="series", quadrature_nodes=19)
+    loads = np.geomspace(2.2, 2200.0, 40)
+    with exported.exported_programs(tmp_path):
+        first = jc.solve(scene, loads)
+        programs.program.cache_clear()
+        again = jc.solve(scene, loads)
+    assert _compiled_lengths(scene) == 0  # the jitted function was never traced in its place
+    assert jax.tree_util.tree_structure(again) == jax.tree_util.tree_structure(first)
+    for name in ("a_l", "stiffness", "real_area", "status", "load_share", "modulus"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [dict(), dict(regime_shares=False), dict(model="jzz2010"), dict(model="gw"), dict(model="persson")],
+    ids=["xia2024", "no-shares", "jzz2010", "gw", "persson"],
+)
+def test_the_solution_tree_is_known_without_tracing(options):
+    scene = make_scene(**TABLE1, **options)
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    traced = jax.tree_util.tree_structure(jax.eval_shape(jc.solve, scene, jnp.ones(3)))
+    assert loadcontrol._solution_tree(treedef)(leaves) == traced

@@ -17,6 +17,7 @@ def cmd_figures(args) -> int:
 
 
 def cmd_bench(args) -> int:
+    from ..core.exported import exported_programs
     from ..studies.bench import run_all
     from ..studies.bench_report import format_results
     from .report import scene_record, to_json
@@ -24,7 +25,9 @@ def cmd_bench(args) -> int:
 
     spec = load_scene(args.scene)
     progress = progress_bar(args.progress, "benchmarks", "step")
-    results = run_all(spec.scene, progress=progress)
+    # Timed as a user's process calls the model: traced, not read from the command line's store.
+    with exported_programs(None):
+        results = run_all(spec.scene, progress=progress)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     text = f"{spec.title}\n" + format_results(results)

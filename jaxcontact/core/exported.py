@@ -87,16 +87,23 @@ def _key(name: str, static: str, args, closed_over) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def program(name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
+def active() -> bool:
+    """Whether programs are kept on disk (a directory is set by `exported_programs`)."""
+    return _directory is not None
+
+
+def program(name: str, static: str, function: Callable, args, closed_over=(), fast_compile: bool = True) -> Callable:
     """`FastCompile(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
     written to the directory of `exported_programs` when one is set.
 
     `static` must describe everything `function` closes over that changes the program (the
     fitted parameters' names), and `closed_over` holds the tree structures it closes over (the
     scene's), whose classes' source files join the key. Any failure to read or write an artefact
-    falls back to tracing, with a log message.
+    falls back to tracing, with a log message. `fast_compile=False`: a plain `jax.jit`, for a
+    program whose run time matters more than its compile time.
     """
-    jitted = FastCompile(function)
+    make = FastCompile if fast_compile else jax.jit
+    jitted = make(function)
     if _directory is None:
         return jitted
     try:
@@ -104,7 +111,7 @@ def program(name: str, static: str, function: Callable, args, closed_over=()) ->
         if path.exists():
             exported = export.deserialize(bytearray(path.read_bytes()))
         else:
-            exported = export.export(jitted.plain)(*args)
+            exported = export.export(jax.jit(function))(*args)
             _directory.mkdir(parents=True, exist_ok=True)
             partial = path.with_suffix(f".{os.getpid()}.partial")
             partial.write_bytes(exported.serialize())
@@ -112,4 +119,4 @@ def program(name: str, static: str, function: Callable, args, closed_over=()) ->
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
         logger.info("exported program %s not used (%s: %s); tracing it", name, type(error).__name__, error)
         return jitted
-    return FastCompile(exported.call)
+    return make(exported.call)

@@ -151,6 +151,21 @@ def _solve(scene: Scene, loads):
     )
 
 
+def _solution_tree(treedef):
+    """`leaves ↦` the tree structure of `_solve`'s `Solution` for this scene, without tracing it."""
+
+    def tree(leaves):
+        scene = jax.tree_util.tree_unflatten(treedef, leaves)
+        shares = 0.0 if scene.regime_shares else None
+        fields = ("load", "a_l", "stiffness", "real_area", "status", "modulus", "nominal_area")
+        template = Solution(
+            **dict.fromkeys(fields, 0.0), load_share=shares, stiffness_share=shares, regimes=scene.model.regimes
+        )
+        return jax.tree_util.tree_structure(template)
+
+    return tree
+
+
 def _check_scalar_parameters(scene: Scene) -> None:
     for name, value in zip(PARAMETERS, scene_fields(scene)):
         if not isinstance(value, jax.core.Tracer) and jnp.ndim(value) != 0:
@@ -242,4 +257,4 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
     _, leaves, treedef, loads = _prepare(scene, loads)
-    return programs.call(_solve, leaves, treedef, loads)
+    return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))

@@ -18,6 +18,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..numerics.compat import top_level
+from . import exported
+
 SMALLEST_BUCKET = 32
 QUARTERS_FROM = 128
 
@@ -45,6 +48,9 @@ class _Program:
     def __init__(self, function, treedef):
         self.output_tree = None
         self.roles = {}
+        self.on_disk = {}
+        self.name = f"{function.__module__}.{function.__qualname__}"
+        self.treedef = treedef
 
         def flat(leaves, loads):
             outputs, self.output_tree = jax.tree_util.tree_flatten(
@@ -52,7 +58,26 @@ class _Program:
             )
             return outputs
 
+        self.function = flat
         self.flat = jax.jit(flat)
+
+    def run(self, leaves, loads):
+        """The outputs' leaves for concrete arguments, at top level: from a program kept on disk
+        where the command line keeps them (`core.exported`: a new process need not trace it)."""
+        if not exported.active():
+            return self.flat(leaves, loads)
+        key = (loads.shape, loads.dtype)
+        if key not in self.on_disk:
+            self.on_disk[key] = exported.program(
+                "solve", self.name, self.function, (leaves, loads), closed_over=(self.treedef,), fast_compile=False
+            )
+        return self.on_disk[key](leaves, loads)
+
+
+def _output_tree(compiled: _Program, output_tree, leaves):
+    if compiled.output_tree is None:  # read from disk: never traced in this process
+        compiled.output_tree = output_tree(leaves)
+    return compiled.output_tree
 
 
 @functools.lru_cache(maxsize=64)
@@ -92,25 +117,28 @@ def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int]
     return compiled.roles[key]
 
 
-def call(function, leaves, treedef, loads):
+def call(function, leaves, treedef, loads, output_tree):
     """`function(tree, loads)`, for the tree of these leaves, through its cached program; concrete
     loads padded to a bucket.
 
     Per-load outputs have a leading axis of the loads' flattened length, and per-call outputs
     shape `(1,)`; both come back shaped as `function` gives them for `loads` itself. Inside a trace
-    (the caller's own `jit`, `grad` or `vmap`) nothing is padded.
+    (the caller's own `jit`, `grad` or `vmap`) nothing is padded. `output_tree(leaves)` gives the
+    outputs' tree structure where the program was read from disk, not traced.
     """
     compiled = program(function, treedef)
+    run = compiled.run if top_level() else compiled.flat
     size = bucket(loads.size)
     if isinstance(loads, jax.core.Tracer) or size == loads.size:
-        outputs = compiled.flat(leaves, loads)
-        return jax.tree_util.tree_unflatten(compiled.output_tree, outputs)
+        outputs = run(leaves, loads)
+        return jax.tree_util.tree_unflatten(_output_tree(compiled, output_tree, leaves), outputs)
     if isinstance(loads, np.ndarray):  # on the host already: padded there, for free
         flat = loads.reshape(-1)
         padded = np.concatenate([flat, np.full(size - flat.size, flat[-1], flat.dtype)])
     else:
         padded = _pad(loads, size)
-    outputs = compiled.flat(leaves, padded)
+    outputs = run(leaves, padded)
+    _output_tree(compiled, output_tree, leaves)
     per_load, per_call = _roles(compiled, size, loads.ndim, outputs)
     cut_load, cut_call = _unpad(size, loads.shape)([outputs[i] for i in per_load], [outputs[i] for i in per_call])
     for i, x in zip(per_load + per_call, cut_load + cut_call):
