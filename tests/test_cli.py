@@ -156,6 +156,16 @@ def test_console_script_output_through_a_pipe_is_complete(tmp_path):
     assert 1.3 < json.loads(out.stdout)["psd"]["D"] < 1.7
 
 
+def test_log_axes_are_labelled_with_decades_in_plain_text(tmp_path):
+    from jaxcontact.cli.plots import save_figure, subplots
+
+    fig, ax = subplots()
+    ax.loglog([1e-7, 1e-4], [1.0, 10.0])
+    save_figure(fig, tmp_path / "decades.png")
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["10⁻⁸", "10⁻⁷", "10⁻⁶", "10⁻⁵", "10⁻⁴", "10⁻³"]
+    np.testing.assert_allclose(ax.xaxis.get_minorticklocs()[:4], [2e-8, 5e-8, 2e-7, 5e-7])
+
+
 def test_figures(tmp_path, capsys, monkeypatch):
     from jaxcontact.studies import figures
 
