@@ -63,6 +63,21 @@ def test_monotone_in_load(table1_scene):
     assert delta[0] < 0 < delta[-1]
 
 
+def test_one_seven_and_thirty_loads_share_one_compiled_approach(table1_scene):
+    from jaxcontact.applications.loadapproach import _approach
+
+    before = _approach._cached._cache_size()
+    loads = np.geomspace(2.2, 2200.0, 30)
+    many = jc.approach(table1_scene, loads, 220.0)
+    few = jc.approach(table1_scene, loads[:7], 220.0)
+    one = jc.approach(table1_scene, loads[3], 220.0)
+    assert _approach._cached._cache_size() - before <= 1  # one bucket (32): compiled here or by a test above
+    # Each call integrates only as far as its own loads reach: equal within the ODE's tolerance.
+    np.testing.assert_allclose(few.approach, many.approach[:7], rtol=1e-9)
+    assert one.approach.shape == one.status.shape == ()
+    np.testing.assert_allclose(float(one.approach), float(many.approach[3]), rtol=1e-9)
+
+
 def test_gradients_match_finite_differences(table1_without_interaction):
     table1_scene = table1_without_interaction
 

@@ -15,12 +15,20 @@ def _compiled_lengths(scene):
     return programs.program(loadcontrol._solve, treedef).flat._cache_size()
 
 
-def test_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
+def test_one_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
     # A configuration no other test uses, so that its program starts with an empty cache.
     scene = make_scene(**TABLE1, interaction="none", regime_shares=False, quadrature_nodes=23)
+    jc.solve(scene, 22.0)
     for count in (7, 30, 200):
         jc.solve(scene, np.geomspace(1.0, 1e3, count))
     assert _compiled_lengths(scene) == 2
+
+
+def test_a_single_load_padded_to_a_bucket_keeps_its_scalar_shape(table1_scene):
+    solution = jc.solve(table1_scene, 22.0)
+    assert solution.stiffness.shape == solution.status.shape == solution.modulus.shape == ()
+    pair = jc.solve(table1_scene, np.array([22.0, 2200.0]))
+    np.testing.assert_allclose(solution.stiffness, pair.stiffness[0], rtol=1e-14)
 
 
 def test_an_eager_call_inside_a_callers_jit_gives_what_it_gives_outside(table1_scene):
@@ -42,7 +50,7 @@ def test_a_fast_compile_program_also_runs_inside_a_callers_jit():
 
 def test_buckets_are_octaves_to_128_loads_and_quarter_octaves_above():
     sizes = (1, 2, 32, 33, 128, 129, 160, 161, 200, 256, 257, 5000)
-    assert [programs.bucket(n) for n in sizes] == [1, 32, 32, 64, 128, 160, 160, 192, 224, 256, 320, 5120]
+    assert [programs.bucket(n) for n in sizes] == [32, 32, 32, 64, 128, 160, 160, 192, 224, 256, 320, 5120]
 
 
 def test_padded_loads_give_what_an_exact_compilation_gives(table1_scene):

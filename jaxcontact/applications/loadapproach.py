@@ -19,6 +19,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..core.loadcontrol import kink_log_loads, point_solver, prepare
+from ..core.programs import padded
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
@@ -127,4 +128,9 @@ def approach(
     reference_load = jnp.asarray(reference_load, loads.dtype)
     if rtol is None:
         rtol = 1e-10 if loads.dtype == jnp.float64 else 1e-5
-    return _approach(scene, loads, reference_load, rtol, max_steps)
+    # Concrete loads padded to the solve's buckets: a new number of loads is not a new compilation.
+    result = _approach(scene, padded(loads), reference_load, rtol, max_steps)
+    if result.load.shape == loads.shape:
+        return result
+    cut = [x[: loads.size].reshape(loads.shape) for x in (result.load, result.approach, result.status)]
+    return Approach(cut[0], result.reference_load, cut[1], cut[2])

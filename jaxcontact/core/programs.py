@@ -5,8 +5,8 @@ costs. Two things stand in the way: `eqx.filter_jit` partitions the whole pytree
 and XLA compiles a new program for every new length of the load array (seconds, against a
 fraction of a millisecond to run it). So the program is a plain `jax.jit` of the scene's leaves,
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
-load arrays are padded to a few bucket lengths: a user who calls with 7, 30 and 200 loads
-compiles the solve twice (32 and 224), and only a cheap slice per length.
+load arrays (a single load too) are padded to a few bucket lengths: a user who calls with 1, 7,
+30 and 200 loads compiles the solve twice (32 and 224), and only a cheap slice per length.
 """
 
 from __future__ import annotations
@@ -26,15 +26,16 @@ QUARTERS_FROM = 128
 
 
 def bucket(size: int) -> int:
-    """The padded length for `size` loads: a single load as it is; else the next power of two
-    ≥ 32 up to 128, and above that the next of 2^k · (5/4, 6/4, 7/4, 2).
+    """The padded length for `size` loads: the next power of two ≥ 32 up to 128, and above that
+    the next of 2^k · (5/4, 6/4, 7/4, 2).
 
-    Below 128 loads an eager call's cost is dispatch, not arithmetic, and one length per octave
-    keeps compilations few; above, padding costs arithmetic (up to 2x at a power of two), and
-    quarter octaves bound it to 1.25x for at most four compilations per octave.
+    Below 128 loads an eager call's cost is dispatch, not arithmetic (one load or 32: ~0.2 ms
+    either way on "paper"), and one length per octave keeps compilations few; above, padding
+    costs arithmetic (up to 2x at a power of two), and quarter octaves bound it to 1.25x for at
+    most four compilations per octave.
     """
-    if size <= 1:
-        return size
+    if size == 0:
+        return 0
     if size <= QUARTERS_FROM:
         return max(SMALLEST_BUCKET, 1 << (size - 1).bit_length())
     quarter = 1 << ((size - 1).bit_length() - 3)  # an eighth of the next power of two ≥ size
@@ -92,6 +93,18 @@ def _pad(values, size):
     return jnp.concatenate([flat, jnp.broadcast_to(flat[-1], (size - flat.size,))])
 
 
+def padded(loads):
+    """Concrete `loads`, flattened and padded to their bucket by repeating the last load; traced
+    or already a bucket long, as they are."""
+    size = bucket(loads.size)
+    if isinstance(loads, jax.core.Tracer) or size == loads.size:
+        return loads
+    if isinstance(loads, np.ndarray):  # on the host already: padded there, for free
+        flat = loads.reshape(-1)
+        return np.concatenate([flat, np.full(size - flat.size, flat[-1], flat.dtype)])
+    return _pad(loads, size)
+
+
 @functools.lru_cache(maxsize=256)
 def _unpad(size: int, shape: tuple[int, ...]):
     """One jitted cut of the padded per-load outputs back to `shape`, and the per-call outputs
@@ -128,16 +141,12 @@ def call(function, leaves, treedef, loads, output_tree):
     """
     compiled = program(function, treedef)
     run = compiled.run if top_level() else compiled.flat
-    size = bucket(loads.size)
-    if isinstance(loads, jax.core.Tracer) or size == loads.size:
+    padded_loads = padded(loads)
+    if padded_loads is loads:
         outputs = run(leaves, loads)
         return jax.tree_util.tree_unflatten(_output_tree(compiled, output_tree, leaves), outputs)
-    if isinstance(loads, np.ndarray):  # on the host already: padded there, for free
-        flat = loads.reshape(-1)
-        padded = np.concatenate([flat, np.full(size - flat.size, flat[-1], flat.dtype)])
-    else:
-        padded = _pad(loads, size)
-    outputs = run(leaves, padded)
+    size = padded_loads.size
+    outputs = run(leaves, padded_loads)
     _output_tree(compiled, output_tree, leaves)
     per_load, per_call = _roles(compiled, size, loads.ndim, outputs)
     cut_load, cut_call = _unpad(size, loads.shape)([outputs[i] for i in per_load], [outputs[i] for i in per_call])
