@@ -1,4 +1,5 @@
-"""A safeguarded Newton root-finder for monotone scalar functions, as an optimistix solver.
+"""A safeguarded Newton root-finder for monotone scalar functions, as an optimistix solver
+(`bracketed_newton.BracketedNewton`, imported when a solve is first traced).
 
 optimistix offers bisection (robust, linear) and Newton (fast, unbracketed: its `lower`/`upper`
 options only clip). The a_l solve wants both: the residual `ln F_t(a_l) - ln F` is increasing
@@ -25,78 +26,10 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from typing import Any, ClassVar
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
-from jaxtyping import PyTree, Scalar
-
-
-class _BracketState(eqx.Module):
-    lower: Scalar
-    upper: Scalar
-    step: Scalar
-    residual: Scalar
-    pending: Scalar  # `step` is the next step, not yet taken (true only for the state from `init`)
-
-
-def _safeguarded_newton(fn, slope_fn, y, args, lower, upper):
-    """One `rtsafe` step from `y` in `[lower, upper]`: `(new_y, state, aux)`; the state keeps the residual."""
-    residual, aux = fn(y, args)
-    slope = slope_fn(y, args)
-    below = residual < 0
-    lower = jnp.where(below, y, lower)
-    upper = jnp.where(below, upper, y)
-    newton = y - residual / slope
-    # Inclusive: at an exact root the Newton point *is* the new bracket end.
-    inside = jnp.isfinite(newton) & (newton >= lower) & (newton <= upper)
-    new_y = jnp.where(inside, newton, 0.5 * (lower + upper))
-    return new_y, _BracketState(lower, upper, new_y - y, residual, jnp.array(False)), aux
-
-
-class BracketedNewton(optx.AbstractRootFinder):
-    """Newton's method safeguarded by a bracket, for increasing `R → R` functions.
-
-    Requires `options=dict(lower=..., upper=...)` with `fn(lower) ≤ 0 ≤ fn(upper)`, or
-    `options=dict(state=...)`, the state of a step already taken that ended at `y0` (so that
-    steps taken before the loop are not repeated). Terminates once a step (or the bracket) is
-    smaller than `atol + rtol·|y|`, checked at the initial point too: a point that starts at a
-    root costs at most one evaluation and no iteration.
-    """
-
-    rtol: float
-    atol: float
-    slope: Callable  # `(y, args) ↦ ∂fn/∂y`
-    norm: ClassVar[Callable[[PyTree], Scalar]] = jnp.abs
-
-    def init(self, fn, y, args, options: dict[str, Any], f_struct, aux_struct, tags):
-        del aux_struct, tags
-        if "state" in options:  # the state of the step that led to `y`, taken before the loop
-            return options["state"]
-        # Evaluate at the initial point, so that a point that already is a root (to tolerance)
-        # terminates before the first iteration.
-        lower = jnp.asarray(options["lower"], f_struct.dtype)
-        upper = jnp.asarray(options["upper"], f_struct.dtype)
-        _, state, _ = _safeguarded_newton(fn, self.slope, y, args, lower, upper)
-        return eqx.tree_at(lambda st: st.pending, state, jnp.array(True))
-
-    def step(self, fn, y, args, options, state: _BracketState, tags):
-        del options, tags
-        return _safeguarded_newton(fn, self.slope, y, args, state.lower, state.upper)
-
-    def terminate(self, fn, y, args, options, state: _BracketState, tags):
-        del fn, args, options, tags
-        scale = self.atol + self.rtol * jnp.abs(y)
-        done = (jnp.abs(state.step) < scale) | (state.upper - state.lower < scale) | (state.residual == 0)
-        return done, optx.RESULTS.successful
-
-    def postprocess(self, fn, y, aux, args, options, state, tags, result):
-        # Stopped by the check in `init`: take the (tolerance-sized) step it found, so that the
-        # root is as accurate as after a step in the loop.
-        return jnp.where(state.pending, y + state.step, y), aux, {}
 
 
 def _forward_mode_slope(fn):
@@ -144,6 +77,12 @@ def solve_increasing(
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2, 3, 4))
 def _root(fn, slope, tolerance, max_steps, unrolled_steps, y0, lower, upper, args):
+    # optimistix (and lineax) take ~0.2 s to import: loaded when a solve is first traced, not by
+    # `import jaxcontact` (a warm command-line run reads its programs from disk and traces none).
+    import optimistix as optx
+
+    from .bracketed_newton import BracketedNewton, _BracketState
+
     y, previous = y0, y0
     for _ in range(unrolled_steps):
         y, previous = _clipped_newton(fn, slope, y, args, lower, upper), y
