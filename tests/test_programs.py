@@ -1,5 +1,9 @@
 """Eager `jc.solve`: one compiled program per static configuration, load arrays padded to buckets."""
 
+import os
+import subprocess
+import sys
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -173,6 +177,29 @@ def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_p
     assert jax.tree_util.tree_structure(again) == jax.tree_util.tree_structure(first)
     for name in ("a_l", "stiffness", "real_area", "status", "load_share", "modulus"):
         np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
+
+
+def test_the_command_lines_short_compile_solve_gives_the_default_compilations_numbers(tmp_path):
+    # The suite compiles everything with the classic emitters (conftest): the two compilers meet
+    # only in a process without that flag.
+    code = f"""
+import jax, numpy as np
+jax.config.update("jax_enable_x64", True)
+import jaxcontact as jc
+from jaxcontact.core import exported
+scene, loads = jc.table1_scene(), np.geomspace(2.2, 22000.0, 41)  # the default scene's F* 1e-7 to 1e-3
+default = jc.solve(scene, loads)
+with exported.exported_programs({str(tmp_path)!r}):
+    short = jc.solve(scene, loads)
+ok = np.asarray(default.status) == 0
+print(int(ok.sum()), np.array_equal(default.status, short.status))
+print(max(float(np.max(np.abs(getattr(short, n)[ok] / getattr(default, n)[ok] - 1))) for n in ("a_l", "stiffness")))
+"""
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    counts, worst = out.stdout.split("\n")[:2]
+    assert counts == "40 True"  # the highest load, F* = 1e-3, is past the "paper" interaction's breakdown
+    assert float(worst) < 1e-13
 
 
 @pytest.mark.parametrize(
