@@ -7,6 +7,8 @@ fraction of a millisecond to run it). So the program is a plain `jax.jit` of the
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
 load arrays (a single load too) are padded to a few bucket lengths: a user who calls with 1, 7,
 30 and 200 loads compiles the solve twice (32 and 224), and only a cheap slice per length.
+Where the command line keeps programs on disk (`core.exported`), a top-level call reads its
+program from there, so that a new process does not trace it again.
 """
 
 from __future__ import annotations
