@@ -169,14 +169,43 @@ def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_p
     # A configuration no other test uses, so that its program is not already traced here.
     scene = make_scene(**TABLE1, interaction="series", quadrature_nodes=19)
     loads = np.geomspace(2.2, 2200.0, 40)
-    with exported.exported_programs(tmp_path):
-        first = jc.solve(scene, loads)
-        programs.program.cache_clear()
-        again = jc.solve(scene, loads)
+    compiles, recording = [], []
+    # Registered for the rest of the process (older JAX cannot unregister one): records only here.
+    jax.monitoring.register_event_duration_secs_listener(
+        lambda event, duration, **kw: compiles.append(event) if recording and "backend_compile" in event else None
+    )
+    # An executable read from JAX's compilation cache does not survive serialisation (and is not
+    # kept): the suite's cache may already hold this program from an earlier run.
+    cache = jax.config.jax_enable_compilation_cache
+    jax.config.update("jax_enable_compilation_cache", False)
+    try:
+        with exported.exported_programs(tmp_path):
+            first = jc.solve(scene, loads)
+            programs.program.cache_clear()
+            recording.append(True)
+            again = jc.solve(scene, loads)
+            recording.clear()
+    finally:
+        jax.config.update("jax_enable_compilation_cache", cache)
     assert _compiled_lengths(scene) == 0  # the jitted function was never traced in its place
+    assert compiles == []  # nor compiled: its executable was read back
+    assert len(list(tmp_path.glob("solve-*.jaxexec"))) == 1
     assert jax.tree_util.tree_structure(again) == jax.tree_util.tree_structure(first)
     for name in ("a_l", "stiffness", "real_area", "status", "load_share", "modulus"):
         np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
+
+
+def test_a_kept_executable_that_fails_is_deleted_and_the_exported_program_used(tmp_path):
+    from jaxcontact.core import exported
+
+    def broken(*args):
+        raise RuntimeError("Function add_divide_fusion not found")
+
+    path = tmp_path / "solve-x-y.jaxexec"
+    path.write_bytes(b"kept")
+    kept = exported._Kept(broken, path, fallback=lambda x: x + 1.0)
+    assert kept(1.0) == 2.0
+    assert not path.exists()
 
 
 def test_the_command_lines_short_compile_solve_gives_the_default_compilations_numbers(tmp_path):

@@ -5,7 +5,9 @@ derivative programs in about half the time of the newer one (MLIR fusion emitter
 Jacobian of 10 loads in 2.2–2.6 s against 4.9–5.1 s, the same arithmetic to ~1e-14. Its loops
 run slower where the newer one vectorises better: the "paper" solve of 4096 loads 2.2x slower. So
 the fit's program, which a first fit waits for and then runs ~10–100 times on 30 points, asks for
-it; the solve, which users time and sweep over millions of loads, does not.
+it, and so does the command line's solve of fewer loads than a chunk (a process that calls it a
+few times); the library's solve, which users time and sweep over millions of loads, does not.
+Executables of the classic emitters also survive serialisation (`exported.executable`).
 
 A per-program option, so that no global setting changes; other backends ignore it.
 """
