@@ -110,17 +110,17 @@ def test_import_does_not_enable_x64():
     assert out.stdout.strip() == "float32"
 
 
-def test_import_leaves_diffrax_and_optimistix_until_they_are_needed():
-    """`import jaxcontact` pays for neither diffrax's import (`jc.approach` brings it in) nor
-    optimistix's (the first traced solve does)."""
+def test_import_leaves_diffrax_optimistix_and_quadax_until_they_are_needed():
+    """`import jaxcontact` pays for none of diffrax's import (`jc.approach` brings it in),
+    optimistix's (the first traced solve does) and quadax's (an adaptive quadrature's trace)."""
     code = (
-        "import sys, jaxcontact as jc; print('diffrax' in sys.modules, 'optimistix' in sys.modules); "
+        "import sys, jaxcontact as jc; print(*(m in sys.modules for m in ('diffrax', 'optimistix', 'quadax'))); "
         "jc.approach; print('diffrax' in sys.modules); print(sorted(set(jc.__all__) - set(dir(jc))))"
     )
     env = {"JAX_PLATFORMS": "cpu", "PATH": ""}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     at_import, after_approach, missing = out.stdout.split("\n")[:3]
-    assert at_import == "False False"
+    assert at_import == "False False False"
     assert after_approach == "True"
     assert missing == "[]"
 

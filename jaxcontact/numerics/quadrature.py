@@ -14,7 +14,6 @@ from typing import ClassVar
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-import quadax
 
 from .validate import InputError
 
@@ -98,6 +97,8 @@ class Adaptive(AbstractRowQuadrature):
             raise InputError(f"quadrature_tolerance = {self.tolerance!r} must be in (0, 0.1)")
 
     def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        import quadax  # only where an adaptive quadrature is traced: not a cost of `import jaxcontact`
+
         nonempty = log_upper > log_lower
         upper = jnp.where(nonempty, log_upper, log_lower + 1.0)  # quadgk wants a proper interval
 
