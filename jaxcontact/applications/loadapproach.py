@@ -19,7 +19,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..core.loadcontrol import kink_log_loads, point_solver, prepare
-from ..core.programs import padded
+from ..core.programs import padded, unpadded
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
@@ -129,8 +129,9 @@ def approach(
     if rtol is None:
         rtol = 1e-10 if loads.dtype == jnp.float64 else 1e-5
     # Concrete loads padded to the solve's buckets: a new number of loads is not a new compilation.
-    result = _approach(scene, padded(loads), reference_load, rtol, max_steps)
-    if result.load.shape == loads.shape:
+    padded_loads = padded(loads)
+    result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
+    if padded_loads is loads:
         return result
-    cut = [x[: loads.size].reshape(loads.shape) for x in (result.load, result.approach, result.status)]
-    return Approach(cut[0], result.reference_load, cut[1], cut[2])
+    load, delta, status = unpadded((result.load, result.approach, result.status), padded_loads.size, loads.shape)
+    return Approach(load, result.reference_load, delta, status)

@@ -130,6 +130,11 @@ def _unpad(size: int, shape: tuple[int, ...]):
     return jax.jit(cut)
 
 
+def unpadded(per_load, size: int, shape: tuple[int, ...]) -> list:
+    """Per-load outputs of a call on `padded` loads (leading axis `size`) cut back to the loads' `shape`."""
+    return _unpad(size, shape)(list(per_load), [])[0]
+
+
 def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int], list[int]]:
     """Which outputs are per load (leading axis `size`) and which per call, once per program and
     bucket: reading every output's shape costs more than the cut itself."""
