@@ -95,6 +95,15 @@ def test_dimensionless_outputs(table1_scene):
     assert sol.status.dtype == jnp.int32
 
 
+def test_a_solution_on_the_host_gives_its_dimensionless_outputs_on_the_host(table1_scene):
+    """A numpy solution (`solve_sweep`'s): its starred properties stay numpy (no JAX dispatch), equal to round-off."""
+    sol = jc.solve(table1_scene, jnp.stack([LOADS, 10.0 * LOADS]))
+    host = jax.tree.map(np.asarray, sol)
+    for name in ("load_star", "stiffness_star", "real_area_star", "a_l_star"):
+        assert type(getattr(host, name)) is np.ndarray, name
+        np.testing.assert_allclose(getattr(host, name), np.asarray(getattr(sol, name)), rtol=1e-15, err_msg=name)
+
+
 def test_import_does_not_enable_x64():
     code = (
         "import jax, jaxcontact as jc; assert not jax.config.jax_enable_x64; "

@@ -6,6 +6,7 @@ import csv
 import json
 import math
 
+import jax
 import numpy as np
 
 from ..core.domain import PARAMETERS
@@ -16,23 +17,32 @@ from ..core.status import status_message
 def solution_rows(solution: Solution) -> list[dict]:
     """One dictionary per load: F, F*, a_l, K, K*, A_r, status, whether every spot is plastic
     (K = 0 with status ok), and the regime shares if computed."""
+    solution = jax.tree.map(np.asarray, solution)  # on the host: one transfer per field, not per row
+
+    def flat(values):
+        return np.broadcast_to(values, solution.load.shape).reshape(-1)
+
+    quantities = {
+        "F_N": solution.load,
+        "F_star": solution.load_star,
+        "a_l_m2": solution.a_l,
+        "K_N_per_m": solution.stiffness,
+        "K_star": solution.stiffness_star,
+        "real_area_m2": solution.real_area,
+    }
+    quantities = {name: flat(values) for name, values in quantities.items()}
+    shares = {}
+    if solution.load_share is not None:
+        for j, regime in enumerate(solution.regimes):
+            shares[f"load_share_{regime}"] = flat(solution.load_share[..., j])
+            shares[f"stiffness_share_{regime}"] = flat(solution.stiffness_share[..., j])
+    status, fully_plastic = flat(solution.status), flat(solution.fully_plastic)
     rows = []
-    fully_plastic = np.asarray(solution.fully_plastic)
-    for i in range(np.size(solution.load)):
-        row = {
-            "F_N": float(solution.load[i]),
-            "F_star": float(solution.load_star[i]),
-            "a_l_m2": float(solution.a_l[i]),
-            "K_N_per_m": float(solution.stiffness[i]),
-            "K_star": float(solution.stiffness_star[i]),
-            "real_area_m2": float(solution.real_area[i]),
-            "status": status_message(solution.status[i]),
-            "fully_plastic": bool(fully_plastic[i]),
-        }
-        if solution.load_share is not None:
-            for j, regime in enumerate(solution.regimes):
-                row[f"load_share_{regime}"] = float(solution.load_share[i, j])
-                row[f"stiffness_share_{regime}"] = float(solution.stiffness_share[i, j])
+    for i in range(status.size):
+        row = {name: float(values[i]) for name, values in quantities.items()}
+        row["status"] = status_message(status[i])
+        row["fully_plastic"] = bool(fully_plastic[i])
+        row.update((name, float(values[i])) for name, values in shares.items())
         rows.append(row)
     return rows
 

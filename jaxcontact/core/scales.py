@@ -12,6 +12,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from ..numerics.compat import namespace
 from ..physics.asperity import hardness_coefficient, log_critical_area
 
 
@@ -37,11 +38,11 @@ class Scales(eqx.Module):
 
     @property
     def stiffness(self):
-        return self.modulus * jnp.sqrt(self.area)
+        return self.modulus * self.length
 
     @property
     def length(self):
-        return jnp.sqrt(self.area)
+        return namespace(self.area).sqrt(self.area)
 
 
 class DimensionlessScene(eqx.Module):

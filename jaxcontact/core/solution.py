@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import equinox as eqx
-import jax.numpy as jnp
 from jaxtyping import Array, Float, Int
 
+from ..numerics.compat import namespace
 from .scales import Scales
 from .status import Status
 
@@ -94,4 +94,5 @@ def masked_rescale(mask, value, scale=1.0):
     The inner `where` matters for gradients: a masked point's value may be NaN, and NaN times
     the zero cotangent it receives would still be NaN.
     """
-    return jnp.where(mask, jnp.where(mask, value, 0.0) * scale, jnp.nan)
+    xp = namespace(mask, value, scale)
+    return xp.where(mask, xp.where(mask, value, 0.0) * scale, xp.nan)

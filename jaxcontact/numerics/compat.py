@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import jax
+import jax.numpy as jnp
+import numpy as np
 
 
 def x64(enabled: bool):
@@ -24,3 +26,11 @@ def top_level() -> bool:
     """Whether no transformation (`jit`, `grad`, `vmap`, ...) is tracing; `False` where this JAX
     cannot say (callers then take the path that also works inside a trace)."""
     return _trace_state_clean is not None and _trace_state_clean()
+
+
+def namespace(*arrays):
+    """`numpy` where every argument is a host value (numpy array or scalar, Python number), else
+    `jax.numpy`: the properties of a result held on the host (`solve_sweep`'s) stay on the host,
+    with no dispatch (and, in a new process, no compilation) per property."""
+    host = all(isinstance(x, (np.ndarray, np.generic, int, float, bool)) for x in arrays)
+    return np if host else jnp
