@@ -203,8 +203,9 @@ print(",".join(compiled), repr(float(stiffness[7])))
     runs.append(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env))
     (first_compiled, first_value), (later_compiled, later_value) = (run.stdout.split() for run in runs)
     assert len(list(tmp_path.glob("solve-*.jaxexec"))) == 1
-    assert "jit(call)" in first_compiled.split(",")  # the exported solve, compiled once
-    assert "jit(call)" not in later_compiled.split(",")  # read back: only the small cut is compiled
+    assert not list(tmp_path.glob("solve-*.jaxexport"))  # kept instead of the exported program, not beside it
+    assert "jit(flat)" in first_compiled.split(",")  # the solve, compiled once, from the function itself
+    assert not {"jit(flat)", "jit(call)"} & set(later_compiled.split(","))  # read back: only the small cut is compiled
     assert later_value == first_value
 
 
@@ -216,7 +217,7 @@ def test_a_kept_executable_that_fails_is_deleted_and_the_exported_program_used(t
 
     path = tmp_path / "solve-x-y.jaxexec"
     path.write_bytes(b"kept")
-    kept = exported._Kept(broken, path, fallback=lambda x: x + 1.0)
+    kept = exported._Kept(broken, path, fallback=lambda: lambda x: x + 1.0)
     assert kept(1.0) == 2.0
     assert not path.exists()
 

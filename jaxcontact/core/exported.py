@@ -97,6 +97,10 @@ def active() -> bool:
     return _directory is not None
 
 
+def _path(name: str, static: str, args, closed_over, suffix: str) -> pathlib.Path:
+    return _directory / f"{name}-{_key(name, static, args, closed_over)}{suffix}"
+
+
 def program(name: str, static: str, function: Callable, args, closed_over=(), fast_compile: bool = True) -> Callable:
     """`FastCompile(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
     written to the directory of `exported_programs` when one is set.
@@ -112,19 +116,23 @@ def program(name: str, static: str, function: Callable, args, closed_over=(), fa
     if _directory is None:
         return jitted
     try:
-        path = _directory / f"{name}-{_key(name, static, args, closed_over)}.jaxexport"
+        path = _path(name, static, args, closed_over, ".jaxexport")
         if path.exists():
             exported = export.deserialize(bytearray(path.read_bytes()))
         else:
             exported = export.export(jax.jit(function))(*args)
-            _directory.mkdir(parents=True, exist_ok=True)
-            partial = path.with_suffix(f".{os.getpid()}.partial")
-            partial.write_bytes(exported.serialize())
-            partial.replace(path)  # atomic: a concurrent reader sees all of it or nothing
+            _write(path, exported.serialize())
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
         logger.info("exported program %s not used (%s: %s); tracing it", name, type(error).__name__, error)
         return jitted
     return make(exported.call)
+
+
+def _write(path: pathlib.Path, payload: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.with_suffix(f".{os.getpid()}.partial")
+    partial.write_bytes(payload)
+    partial.replace(path)  # atomic: a concurrent reader sees all of it or nothing
 
 
 @functools.cache
@@ -141,35 +149,43 @@ def _host() -> str:
 
 def executable(name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
     """`program(...)` compiled for a short compile time, with the compiled executable itself kept
-    in the directory as well, so that a later process neither traces, lowers nor compiles it
-    (~0.1 s to load, against ~0.45 s to lower the exported program and fetch it from JAX's cache).
+    in the directory instead, so that a later process neither traces, lowers nor compiles it
+    (~0.15 s to load, against ~0.45 s to lower the exported program and fetch it from JAX's cache).
 
     Only where the short compile options apply: XLA's CPU executables built by its default
     emitters do not survive serialisation, nor do those JAX read from its compilation cache; so an
     executable is kept only after a round trip (serialised, loaded, run on `args`) has given the
-    compiled program's own outputs, and one that fails when called later is deleted and the
-    exported program used instead. An executable is machine code for this host: its file is
-    named by the host's CPU and jaxlib (`_host`). Like JAX's own compilation cache, the directory
-    is trusted (the file is a pickle). Call the result with concrete arguments only.
+    compiled program's own outputs. Where it is not kept, the exported program is (`program`),
+    for the next process; a kept one that fails when called later is deleted and the exported
+    program used. A new executable is compiled from `function` directly (one trace, one
+    lowering), or from the exported program where that is on disk already (no trace). An
+    executable is machine code for this host: its file is named by the host's CPU and jaxlib
+    (`_host`). Like JAX's own compilation cache, the directory is trusted (the file is a pickle).
+    Call the result with concrete arguments only.
     """
-    traced = program(name, static, function, args, closed_over)
+    exported_program = functools.partial(program, name, static, function, args, closed_over)
     if _directory is None or not compiler_options():
-        return traced
+        return exported_program()
     try:
-        path = _directory / f"{name}-{_key(name, static, args, closed_over)}-{_host()}.jaxexec"
+        path = _path(name, static, args, closed_over, f"-{_host()}.jaxexec")
         if path.exists():
-            return _Kept(_load(path.read_bytes()), path, traced)
-        compiled = traced.top_level.lower(*args).compile()
-        payload = pickle.dumps(_serialize(compiled))
-        if not _round_trips(payload, compiled, args):
-            logger.info("compiled program %s does not survive serialisation; not kept", name)
-            return compiled
-        partial = path.with_suffix(f".{os.getpid()}.partial")
-        partial.write_bytes(payload)
-        partial.replace(path)
+            return _Kept(_load(path.read_bytes()), path, exported_program)
+        if _path(name, static, args, closed_over, ".jaxexport").exists():
+            compiled = exported_program().top_level.lower(*args).compile()
+        else:
+            compiled = jax.jit(function, compiler_options=compiler_options()).lower(*args).compile()
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
-        logger.info("compiled program %s not kept (%s: %s); using the exported one", name, type(error).__name__, error)
-        return traced
+        logger.info("compiled program %s not read (%s: %s); using the exported one", name, type(error).__name__, error)
+        return exported_program()
+    try:
+        payload = pickle.dumps(_serialize(compiled))
+        if _round_trips(payload, compiled, args):
+            _write(path, payload)
+        else:
+            logger.info("compiled program %s does not survive serialisation; its exported program kept", name)
+            exported_program()
+    except Exception as error:  # noqa: BLE001
+        logger.info("compiled program %s not kept (%s: %s)", name, type(error).__name__, error)
     return compiled
 
 
@@ -195,9 +211,10 @@ def _round_trips(payload: bytes, compiled, args) -> bool:
 
 
 class _Kept:
-    """An executable read from disk; if a call fails, its file is deleted and `fallback` used."""
+    """An executable read from disk; if a call fails, its file is deleted and the program that
+    `fallback()` builds used instead."""
 
-    def __init__(self, loaded, path: pathlib.Path, fallback: Callable):
+    def __init__(self, loaded, path: pathlib.Path, fallback: Callable[[], Callable]):
         self.loaded, self.path, self.fallback = loaded, path, fallback
 
     def __call__(self, *args):
@@ -208,4 +225,5 @@ class _Kept:
                 logger.info("kept executable %s failed (%s); deleted", self.path.name, error)
                 self.loaded = None
                 self.path.unlink(missing_ok=True)
+                self.fallback = self.fallback()
         return self.fallback(*args)
