@@ -101,6 +101,30 @@ def test_main_restores_the_callers_jax_settings(tmp_path, capsys):
     assert [jax.config.values[n] for n in names] == before
 
 
+def test_matplotlib_is_imported_once_a_compilation_begins_not_before():
+    import jax.monitoring
+
+    from jaxcontact.cli.main import plotting_imported_while_compiling
+
+    with plotting_imported_while_compiling() as thread:
+        thread.join(0.2)
+        assert thread.is_alive()  # waiting: tracing holds the GIL, an import beside it gains nothing
+        jax.monitoring.record_event_duration_secs("/jax/core/compile/jaxpr_to_mlir_module_duration", 0.5)
+        thread.join(30)
+        assert not thread.is_alive()
+
+
+def test_the_background_import_leaves_no_listener_behind():
+    from jax._src import monitoring
+
+    from jaxcontact.cli.main import plotting_imported_while_compiling
+
+    before = list(monitoring._event_duration_secs_listeners)
+    with plotting_imported_while_compiling():
+        pass
+    assert monitoring._event_duration_secs_listeners == before
+
+
 def test_accuracy_without_mpmath_is_a_one_line_error(tmp_path):
     code = (
         "import sys; sys.modules['mpmath'] = None; from jaxcontact.cli import main; "

@@ -42,7 +42,6 @@ def cmd_run(args) -> int:
     import numpy as np
 
     from ..applications.chunks import solve_sweep
-    from .plots import plot_sweep
     from .report import flagged_summary, format_table, record_comments, scene_record, solution_rows, write_csv
     from .scenefile import load_scene
 
@@ -65,6 +64,8 @@ def cmd_run(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     record = scene_record(spec)
     write_csv(rows, out / "results.csv", comments=record_comments(record))
+    from .plots import plot_sweep  # here: matplotlib loads while the solve compiles (`main`)
+
     files = [str(out / "results.csv")] + plot_sweep(solution, spec.title, out)
     if band is not None:
         from .surface_commands import plot_band
@@ -118,7 +119,6 @@ def _require_valid_preload(scene, load: float, key: str) -> None:
 def cmd_approach(args) -> int:
     import numpy as np
 
-    from .plots import plot_approach
     from .report import format_table, write_csv
     from .scenefile import DYNAMICS_SCENE, load_scene
 
@@ -129,6 +129,8 @@ def cmd_approach(args) -> int:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "approach.csv")
+    from .plots import plot_approach  # here: matplotlib loads while the solve compiles (`main`)
+
     files = [
         str(out / "approach.csv"),
         plot_approach(
@@ -155,7 +157,6 @@ def cmd_dynamics(args) -> int:
     from ..applications.chunks import map_in_chunks
     from ..applications.dynamics import Drive, frequency_response, resonance_frequency, simulate
     from ..core.status import status_message
-    from .plots import plot_dynamics
     from .report import write_csv
     from .scenefile import DYNAMICS_SCENE, load_scene
 
@@ -203,6 +204,8 @@ def cmd_dynamics(args) -> int:
     ]
     write_csv(resonance_rows, out / "resonance_vs_preload.csv")
     files = [str(out / n) for n in ("time_history.csv", "frequency_response.csv", "resonance_vs_preload.csv")]
+    from .plots import plot_dynamics  # here: matplotlib loads while the solve compiles (`main`)
+
     files += plot_dynamics(history, sweep_hz, amplitudes, f_linear, spec.loads, f_res, out)
     summary = {
         "title": spec.title,
@@ -235,7 +238,6 @@ def cmd_fit(args) -> int:
 
     import fitting
 
-    from .plots import plot_fit
     from .report import scene_record
     from .scenefile import load_scene
 
@@ -261,6 +263,8 @@ def cmd_fit(args) -> int:
     fine = np.geomspace(curve.loads.min(), curve.loads.max(), 200)
     # Through the fit's own compiled program: the fitted curve costs no new trace.
     fitted = fitting.model_stiffness(result.scene, result.params, fine)
+    from .plots import plot_fit  # here: matplotlib loads while the fit compiles (`main`)
+
     files = [plot_fit(result, curve.loads, curve.stiffness, fine, fitted, out / "fit.png")]
     text = f"{curve.source}: {curve.loads.size} points, scene {spec.title}\n{result.summary()}\n" + "\n".join(
         f"wrote {f}" for f in files

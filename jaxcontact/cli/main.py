@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import os
 import pathlib
 import sys
+import threading
 import traceback
 
 from ..core.exported import exported_programs
@@ -22,6 +24,8 @@ from .surface_commands import add_topography_options, cmd_surface
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
+# The commands that draw figures with matplotlib.
+DRAWING = frozenset({"run", "surface", "approach", "dynamics", "compare", "figures", "fit", "accuracy"})
 
 
 _SETTINGS = (
@@ -166,11 +170,49 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@contextlib.contextmanager
+def plotting_imported_while_compiling():
+    """Import matplotlib (~0.3-0.5 s of a command that draws) on a second thread while XLA compiles;
+    yields the thread.
+
+    XLA's compiler releases the GIL, so a command's first solve, which in a new process waits
+    seconds on it, leaves a core free for the import; done before (or beside tracing, which holds
+    the GIL) it would cost as much as done after. The thread starts at the first lowering long
+    enough to announce a real compilation, or when the command ends; the command's own import
+    waits for it (Python's module locks) and reports any failure.
+    """
+    import jax.monitoring
+
+    start = threading.Event()
+
+    def on_event(event, duration, **_):
+        if event == "/jax/core/compile/jaxpr_to_mlir_module_duration" and duration > 0.05:
+            start.set()
+
+    def load():
+        start.wait()
+        with contextlib.suppress(Exception):
+            for module in ("jaxcontact.cli.plots", "matplotlib.backends.backend_agg"):
+                importlib.import_module(module)
+
+    jax.monitoring.register_event_duration_secs_listener(on_event)
+    thread = threading.Thread(target=load, name="jaxcontact-import-matplotlib", daemon=True)
+    thread.start()
+    try:
+        yield thread
+    finally:
+        start.set()
+        unregister = getattr(jax.monitoring, "unregister_event_duration_listener", None)
+        if unregister is not None:  # older JAX keeps it: a set event is set again, harmlessly
+            unregister(on_event)
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    drawing = plotting_imported_while_compiling() if args.command in DRAWING else contextlib.nullcontext()
     try:
-        with command_settings():
+        with command_settings(), drawing:
             return args.func(args)
     except (
         InputError,
