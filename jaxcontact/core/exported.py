@@ -26,6 +26,7 @@ import pathlib
 import pickle
 import platform
 import sys
+import threading
 from collections.abc import Callable
 
 import jax
@@ -37,17 +38,21 @@ from .compiling import FastCompile, compiler_options
 logger = logging.getLogger(__name__)
 _directory: pathlib.Path | None = None
 _source_digest: str | None = None
+_keeping: list[threading.Thread] = []  # executables being checked and written (`executable`)
 
 
 @contextlib.contextmanager
 def exported_programs(directory):
-    """Keep the programs built by `program` in `directory` while the context is active (`None`: do not)."""
+    """Keep the programs built by `program` in `directory` while the context is active (`None`: do
+    not); on leaving it, every program is on disk."""
     global _directory
     before = _directory
     _directory = None if directory is None else pathlib.Path(directory)
     try:
         yield
     finally:
+        while _keeping:
+            _keeping.pop().join()
         _directory = before
 
 
@@ -177,6 +182,16 @@ def executable(name: str, static: str, function: Callable, args, closed_over=())
     except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
         logger.info("compiled program %s not read (%s: %s); using the exported one", name, type(error).__name__, error)
         return exported_program()
+    # Checked and written on a second thread, mostly outside the GIL: the caller goes on with the
+    # results (a cold `jaxcontact run` draws its figures meanwhile); `exported_programs` waits for it.
+    keeper = threading.Thread(target=_keep, args=(name, path, compiled, args, exported_program), daemon=True)
+    keeper.start()
+    _keeping.append(keeper)
+    return compiled
+
+
+def _keep(name: str, path: pathlib.Path, compiled, args, exported_program: Callable) -> None:
+    """Write `compiled` to `path` if it survives the round trip; else write its exported program."""
     try:
         payload = pickle.dumps(_serialize(compiled))
         if _round_trips(payload, compiled, args):
@@ -184,9 +199,8 @@ def executable(name: str, static: str, function: Callable, args, closed_over=())
         else:
             logger.info("compiled program %s does not survive serialisation; its exported program kept", name)
             exported_program()
-    except Exception as error:  # noqa: BLE001
+    except Exception as error:  # noqa: BLE001 (a cache must never stop the computation)
         logger.info("compiled program %s not kept (%s: %s)", name, type(error).__name__, error)
-    return compiled
 
 
 def _serialize(compiled):
