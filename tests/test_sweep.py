@@ -89,3 +89,13 @@ def test_a_chunked_solve_equals_one_solve(table1_scene):
     np.testing.assert_allclose(chunked.stiffness, np.asarray(whole.stiffness), rtol=1e-13)
     np.testing.assert_allclose(chunked.load_star, np.asarray(whole.load_star), rtol=1e-15)
     np.testing.assert_array_equal(chunked.modulus, np.asarray(whole.modulus))
+
+
+def test_a_sweep_shorter_than_a_chunk_is_padded_on_the_host_with_no_program_to_cut_it(table1_scene):
+    from jaxcontact.core import programs
+
+    loads = np.geomspace(1e-7, 1e-4, 10) * TABLE1["E"] * TABLE1["area"]
+    programs._unpad.cache_clear()
+    swept = solve_sweep(table1_scene, loads)
+    assert programs._unpad.cache_info().currsize == 0
+    np.testing.assert_array_equal(swept.stiffness, np.asarray(jc.solve(table1_scene, loads).stiffness))

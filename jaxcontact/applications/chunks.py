@@ -6,6 +6,7 @@ import jax
 import numpy as np
 
 from ..core.loadcontrol import solve
+from ..core.programs import bucket
 from ..core.scene import Scene
 from ..core.solution import Solution
 
@@ -47,6 +48,14 @@ def solve_sweep(scene: Scene, loads, *, chunk: int = CHUNK, progress: bool = Fal
     """`solve(scene, loads)` for a 1-D array of loads, as numpy arrays, `chunk` loads at a time
     (one compilation, bounded memory); `progress=True` shows a tqdm bar."""
     loads = np.asarray(loads, dtype=float).reshape(-1)
+    # Fewer loads than a chunk are padded here, on the host, to the length `solve` would pad them
+    # to: the same program, and no program to cut its outputs back (one compilation fewer).
+    small = 0 < loads.size <= chunk
     return map_in_chunks(
-        lambda block: solve(scene, block), loads, chunk=chunk, progress=progress, desc=f"solving {loads.size} loads"
+        lambda block: solve(scene, block),
+        loads,
+        chunk=bucket(loads.size) if small else chunk,
+        pad_small=small,
+        progress=progress,
+        desc=f"solving {loads.size} loads",
     )
