@@ -125,6 +125,36 @@ def test_the_background_import_leaves_no_listener_behind():
     assert monitoring._event_duration_secs_listeners == before
 
 
+_DIFFRAX_PROGRAM = """
+import diffrax, jax, jax.numpy as jnp
+from jaxcontact.cli.main import checks_without_host_callbacks
+def solve(t1):
+    saveat = diffrax.SaveAt(ts=jnp.linspace(0.0, 1.0, 3) * t1)
+    controller = diffrax.PIDController(rtol=1e-6, atol=1e-9)
+    return diffrax.diffeqsolve(
+        diffrax.ODETerm(lambda t, y, args: -y), diffrax.Tsit5(), 0.0, t1, None, 1.0,
+        saveat=saveat, stepsize_controller=controller, throw=False,
+    ).ys
+{setting}
+print("callback" in jax.jit(solve).lower(1.0).as_text())
+"""
+
+
+def _host_callback_in_a_diffrax_program(setting: str) -> str:
+    code = _DIFFRAX_PROGRAM.format(setting=setting)
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+
+
+def test_the_executable_compiles_diffrax_solves_without_host_callbacks():
+    """Diffrax checks traced save times through a host callback, which keeps a program out of
+    JAX's persistent cache: `approach` and `dynamics` compiled their solves on every run."""
+    assert _host_callback_in_a_diffrax_program("checks_without_host_callbacks()") == "False"
+
+
+def test_without_the_executables_setting_diffrax_keeps_its_host_callback():
+    assert _host_callback_in_a_diffrax_program("") == "True"
+
+
 def test_accuracy_without_mpmath_is_a_one_line_error(tmp_path):
     code = (
         "import sys; sys.modules['mpmath'] = None; from jaxcontact.cli import main; "

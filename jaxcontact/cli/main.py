@@ -237,6 +237,22 @@ def main(argv=None) -> int:
         return 130
 
 
+def checks_without_host_callbacks() -> None:
+    """Equinox's run-time checks inside compiled programs give NaN instead of raising through a
+    host callback, for the rest of the process.
+
+    JAX never keeps a program holding a host callback in its persistent cache, and diffrax checks
+    its (traced) save times that way: `approach` and `dynamics` compiled their solves on every
+    run. Every solve here runs with `throw=False` and flags failures in its status, so nothing
+    is lost. `EQX_ON_ERROR` is read when equinox is imported, before this module runs; its
+    module's copy is set instead. Process-wide, not per command: equinox caches the traced
+    checks, so a setting restored afterwards would still leak into the caller's later programs.
+    """
+    errors = importlib.import_module("equinox._errors")
+    if getattr(errors, "EQX_ON_ERROR", None) == "raise":
+        errors.EQX_ON_ERROR = "nan"
+
+
 def console() -> None:
     """The `jaxcontact` executable: `main()`, then an exit that skips the interpreter's teardown.
 
@@ -246,6 +262,7 @@ def console() -> None:
     """
     import atexit
 
+    checks_without_host_callbacks()
     code = main()
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):  # a closed pipe must not change the exit status
