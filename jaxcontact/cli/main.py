@@ -248,7 +248,10 @@ def checks_without_host_callbacks() -> None:
     module's copy is set instead. Process-wide, not per command: equinox caches the traced
     checks, so a setting restored afterwards would still leak into the caller's later programs.
     """
-    errors = importlib.import_module("equinox._errors")
+    try:
+        errors = importlib.import_module("equinox._errors")
+    except ImportError:  # another equinox: its checks stay as they are, and only caching suffers
+        return
     if getattr(errors, "EQX_ON_ERROR", None) == "raise":
         errors.EQX_ON_ERROR = "nan"
 
