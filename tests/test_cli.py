@@ -1,6 +1,7 @@
 """The command line: the main job on the default scene, JSON output, figures, one-line errors."""
 
 import csv
+import gc
 import json
 import os
 import subprocess
@@ -96,9 +97,11 @@ def test_main_restores_the_callers_jax_settings(tmp_path, capsys):
 
     names = ("jax_enable_x64", "jax_cpu_enable_async_dispatch", "jax_compilation_cache_dir")
     before = [jax.config.values[n] for n in names]
+    thresholds = gc.get_threshold()
     assert main(["run", "--out", str(tmp_path), "--no-progress", "--format", "json"]) == 0
     capsys.readouterr()
     assert [jax.config.values[n] for n in names] == before
+    assert gc.get_threshold() == thresholds  # the command's rarer collections end with it
 
 
 def test_matplotlib_is_imported_once_a_compilation_begins_not_before():
