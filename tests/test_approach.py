@@ -107,3 +107,23 @@ def test_flagged_points():
 def test_bad_reference_load(table1_scene):
     with pytest.raises(ValueError, match="not a valid load"):
         jc.approach(table1_scene, LOADS, -1.0)
+
+
+def test_where_programs_are_kept_a_later_call_reads_the_approach_untraced(table1_scene, tmp_path, monkeypatch):
+    from jaxcontact.applications import loadapproach
+    from jaxcontact.core import exported
+
+    traced = []
+
+    def cheap(scene, loads, reference_load, rtol, max_steps):  # stands in for the ODE solve
+        traced.append(loads.shape)
+        delta = (loads - reference_load) * scene.surface.D
+        return loadapproach.Approach(loads, reference_load, delta, jnp.zeros(loads.shape, jnp.int32))
+
+    monkeypatch.setattr(loadapproach, "_approach", cheap)
+    loads = np.geomspace(2.2, 2200.0, 7)
+    with exported.exported_programs(tmp_path):
+        first = jc.approach(table1_scene, loads, 22.0)
+        again = jc.approach(table1_scene, loads, 22.0)
+    assert len(traced) == 1  # the second call ran the program kept on disk
+    np.testing.assert_array_equal(again.approach, first.approach)

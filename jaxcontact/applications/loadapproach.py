@@ -18,11 +18,13 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
+from ..core import exported
 from ..core.loadcontrol import kink_log_loads, point_solver, prepare
 from ..core.programs import padded, unpadded
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
+from ..numerics.compat import top_level
 
 
 class Approach(eqx.Module):
@@ -130,8 +132,25 @@ def approach(
         rtol = 1e-10 if loads.dtype == jnp.float64 else 1e-5
     # Concrete loads padded to the solve's buckets: a new number of loads is not a new compilation.
     padded_loads = padded(loads)
-    result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
+    if exported.active() and top_level():
+        result = _kept_approach(scene, padded_loads, reference_load, rtol, max_steps)
+    else:
+        result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
     if padded_loads is loads:
         return result
     load, delta, status = unpadded((result.load, result.approach, result.status), padded_loads.size, loads.shape)
     return Approach(load, result.reference_load, delta, status)
+
+
+def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int) -> Approach:
+    """`_approach` through its program kept on disk (`core.exported`, where the command line keeps
+    programs): a later process neither traces nor compiles it (tracing alone is ~4 s)."""
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+
+    def flat(leaves, loads, reference_load):
+        scene = jax.tree_util.tree_unflatten(treedef, leaves)
+        return jax.tree_util.tree_leaves(_approach(scene, loads, reference_load, rtol, max_steps))
+
+    args = (leaves, loads, reference_load)
+    run = exported.program("approach", f"{rtol!r}-{max_steps}", flat, args, closed_over=(treedef,))
+    return Approach(*run(*args))
