@@ -12,6 +12,8 @@ differentiable (reverse mode) with respect to every float field of the scene.
 
 from __future__ import annotations
 
+import sys
+
 import diffrax
 import equinox as eqx
 import jax
@@ -132,7 +134,7 @@ def approach(
         rtol = 1e-10 if loads.dtype == jnp.float64 else 1e-5
     # Concrete loads padded to the solve's buckets: a new number of loads is not a new compilation.
     padded_loads = padded(loads)
-    if exported.active() and top_level():
+    if exported.active() and top_level() and _checks_without_host_callbacks():
         result = _kept_approach(scene, padded_loads, reference_load, rtol, max_steps)
     else:
         result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
@@ -140,6 +142,14 @@ def approach(
         return result
     load, delta, status = unpadded((result.load, result.approach, result.status), padded_loads.size, loads.shape)
     return Approach(load, result.reference_load, delta, status)
+
+
+def _checks_without_host_callbacks() -> bool:
+    """Whether equinox's run-time checks (diffrax checks its save times with them) trace without a
+    host callback, which no exported program can hold: `EQX_ON_ERROR` "nan" or "off" (the
+    `jaxcontact` executable sets "nan"). Otherwise exporting would trace the solve for nothing."""
+    errors = sys.modules.get("equinox._errors")
+    return getattr(errors, "EQX_ON_ERROR", "raise") in ("nan", "off")
 
 
 def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int) -> Approach:
