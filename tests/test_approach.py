@@ -121,7 +121,7 @@ def test_where_programs_are_kept_a_later_call_reads_the_approach_untraced(table1
         return loadapproach.Approach(loads, reference_load, delta, jnp.zeros(loads.shape, jnp.int32))
 
     monkeypatch.setattr(loadapproach, "_approach", cheap)
-    monkeypatch.setattr("equinox._errors.EQX_ON_ERROR", "nan")  # as the executable sets it (`cli.main`)
+    monkeypatch.setattr("equinox._errors.EQX_ON_ERROR", "nan")  # as the executable sets it (`compat`)
     loads = np.geomspace(2.2, 2200.0, 7)
     with exported.exported_programs(tmp_path):
         first = jc.approach(table1_scene, loads, 22.0)
@@ -132,11 +132,9 @@ def test_where_programs_are_kept_a_later_call_reads_the_approach_untraced(table1
 
 def test_while_equinox_checks_through_host_callbacks_the_approach_is_not_exported(table1_scene, tmp_path, monkeypatch):
     """No exported program can hold a host callback: tracing the solve to export it would be for nothing."""
-    from jaxcontact.applications import loadapproach
     from jaxcontact.core import exported
 
     monkeypatch.setattr("equinox._errors.EQX_ON_ERROR", "raise")
     with exported.exported_programs(tmp_path):
         jc.approach(table1_scene, np.geomspace(2.2, 2200.0, 7), 22.0)
     assert not list(tmp_path.glob("approach-*"))
-    assert loadapproach._checks_without_host_callbacks() is False

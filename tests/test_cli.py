@@ -130,7 +130,7 @@ def test_the_background_import_leaves_no_listener_behind():
 
 _DIFFRAX_PROGRAM = """
 import diffrax, jax, jax.numpy as jnp
-from jaxcontact.cli.main import checks_without_host_callbacks
+from jaxcontact.numerics.compat import avoid_host_callbacks_in_checks
 def solve(t1):
     saveat = diffrax.SaveAt(ts=jnp.linspace(0.0, 1.0, 3) * t1)
     controller = diffrax.PIDController(rtol=1e-6, atol=1e-9)
@@ -151,7 +151,7 @@ def _host_callback_in_a_diffrax_program(setting: str) -> str:
 def test_the_executable_compiles_diffrax_solves_without_host_callbacks():
     """Diffrax checks traced save times through a host callback, which keeps a program out of
     JAX's persistent cache: `approach` and `dynamics` compiled their solves on every run."""
-    assert _host_callback_in_a_diffrax_program("checks_without_host_callbacks()") == "False"
+    assert _host_callback_in_a_diffrax_program("avoid_host_callbacks_in_checks()") == "False"
 
 
 def test_without_the_executables_setting_diffrax_keeps_its_host_callback():

@@ -12,8 +12,6 @@ differentiable (reverse mode) with respect to every float field of the scene.
 
 from __future__ import annotations
 
-import sys
-
 import diffrax
 import equinox as eqx
 import jax
@@ -26,7 +24,7 @@ from ..core.programs import padded, unpadded
 from ..core.scales import Scales
 from ..core.scene import Scene
 from ..core.status import Status
-from ..numerics.compat import top_level
+from ..numerics.compat import checks_without_host_callbacks, top_level
 
 
 class Approach(eqx.Module):
@@ -134,7 +132,9 @@ def approach(
         rtol = 1e-10 if loads.dtype == jnp.float64 else 1e-5
     # Concrete loads padded to the solve's buckets: a new number of loads is not a new compilation.
     padded_loads = padded(loads)
-    if exported.active() and top_level() and _checks_without_host_callbacks():
+    # Exported only where it can be (no host callback in diffrax's checks), else it would be traced
+    # for nothing.
+    if exported.active() and top_level() and checks_without_host_callbacks():
         result = _kept_approach(scene, padded_loads, reference_load, rtol, max_steps)
     else:
         result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
@@ -142,14 +142,6 @@ def approach(
         return result
     load, delta, status = unpadded((result.load, result.approach, result.status), padded_loads.size, loads.shape)
     return Approach(load, result.reference_load, delta, status)
-
-
-def _checks_without_host_callbacks() -> bool:
-    """Whether equinox's run-time checks (diffrax checks its save times with them) trace without a
-    host callback, which no exported program can hold: `EQX_ON_ERROR` "nan" or "off" (the
-    `jaxcontact` executable sets "nan"). Otherwise exporting would trace the solve for nothing."""
-    errors = sys.modules.get("equinox._errors")
-    return getattr(errors, "EQX_ON_ERROR", "raise") in ("nan", "off")
 
 
 def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int) -> Approach:

@@ -16,6 +16,7 @@ import threading
 import traceback
 
 from ..core.exported import exported_programs
+from ..numerics.compat import avoid_host_callbacks_in_checks
 from ..numerics.validate import InputError
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .compare_commands import DEFAULT_COMPARE_SCENE, add_compare_options, cmd_compare
@@ -242,25 +243,6 @@ def main(argv=None) -> int:
         return 130
 
 
-def checks_without_host_callbacks() -> None:
-    """Equinox's run-time checks inside compiled programs give NaN instead of raising through a
-    host callback, for the rest of the process.
-
-    JAX never keeps a program holding a host callback in its persistent cache, and diffrax checks
-    its (traced) save times that way: `approach` and `dynamics` compiled their solves on every
-    run. Every solve here runs with `throw=False` and flags failures in its status, so nothing
-    is lost. `EQX_ON_ERROR` is read when equinox is imported, before this module runs; its
-    module's copy is set instead. Process-wide, not per command: equinox caches the traced
-    checks, so a setting restored afterwards would still leak into the caller's later programs.
-    """
-    try:
-        errors = importlib.import_module("equinox._errors")
-    except ImportError:  # another equinox: its checks stay as they are, and only caching suffers
-        return
-    if getattr(errors, "EQX_ON_ERROR", None) == "raise":
-        errors.EQX_ON_ERROR = "nan"
-
-
 def console() -> None:
     """The `jaxcontact` executable: `main()`, then an exit that skips the interpreter's teardown.
 
@@ -270,7 +252,10 @@ def console() -> None:
     """
     import atexit
 
-    checks_without_host_callbacks()
+    # JAX keeps no program holding a host callback in its persistent cache, and diffrax checks its
+    # save times through one: `approach` and `dynamics` compiled their solves on every run. Every
+    # solve here runs with `throw=False` and flags failures in its status.
+    avoid_host_callbacks_in_checks()
     code = main()
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):  # a closed pipe must not change the exit status

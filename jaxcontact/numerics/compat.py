@@ -1,6 +1,10 @@
-"""What differs between the JAX versions jaxcontact supports (`pyproject.toml`'s lower bounds)."""
+"""What differs between the JAX and equinox versions jaxcontact supports (`pyproject.toml`'s lower
+bounds), and the only places that read or set their private state."""
 
 from __future__ import annotations
+
+import importlib
+import sys
 
 import jax
 import jax.numpy as jnp
@@ -34,3 +38,29 @@ def namespace(*arrays):
     with no dispatch (and, in a new process, no compilation) per property."""
     host = all(isinstance(x, (np.ndarray, np.generic, int, float, bool)) for x in arrays)
     return np if host else jnp
+
+
+# Equinox reads `EQX_ON_ERROR` when it is imported, into its private `_errors` module; the two
+# functions below are the only places that touch it.
+_CALLBACK_FREE = ("nan", "off")
+
+
+def checks_without_host_callbacks() -> bool:
+    """Whether equinox's run-time checks (`error_if`, which diffrax uses to check its save times)
+    trace without a host callback: `EQX_ON_ERROR` "nan" or "off". JAX can neither export a program
+    holding a host callback nor keep it in its persistent compilation cache."""
+    errors = sys.modules.get("equinox._errors")
+    return getattr(errors, "EQX_ON_ERROR", "raise") in _CALLBACK_FREE
+
+
+def avoid_host_callbacks_in_checks() -> None:
+    """Make equinox's run-time checks give NaN instead of raising through a host callback, for the
+    rest of the process (as `EQX_ON_ERROR=nan` would, had it been set before equinox's import).
+    Process-wide: equinox caches its traced checks, so a setting restored later would still leak
+    into programs traced afterwards. An equinox without the private module is left as it is."""
+    try:
+        errors = importlib.import_module("equinox._errors")
+    except ImportError:
+        return
+    if getattr(errors, "EQX_ON_ERROR", None) == "raise":
+        errors.EQX_ON_ERROR = "nan"
