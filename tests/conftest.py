@@ -83,6 +83,16 @@ def table1_scene():
 
 
 @pytest.fixture(scope="session")
+def dynamics_scene():
+    """The embedded scene of `jaxcontact approach` and `jaxcontact dynamics` (Table 1, "paper",
+    no regime shares), as the commands read it: the library's tests of the approach and the
+    dynamics use it, so that the commands' tests beside them reuse their compiled programs."""
+    from jaxcontact.cli.scenefile import DYNAMICS_SCENE, load_scene
+
+    return load_scene(None, default=DYNAMICS_SCENE).scene
+
+
+@pytest.fixture(scope="session")
 def table1_without_interaction():
     """The Table 1 scene without interaction: for gradients through diffrax, whose reverse-mode
     compile with the "paper" interaction inside costs a minute (the interaction's own gradients

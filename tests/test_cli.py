@@ -252,64 +252,12 @@ def test_figures(tmp_path, capsys, monkeypatch):
     assert all((tmp_path / n).stat().st_size > 10_000 for n in names)
 
 
-def test_approach_command_on_the_embedded_dynamics_scene(tmp_path, capsys):
-    assert main(["approach", "--out", str(tmp_path), "--format", "json"]) == 0
-    payload = json.loads(capsys.readouterr().out)
-    rows = payload["rows"]
-    assert payload["reference_load_N"] == 220.0
-    assert len(rows) == 31
-    delta = np.array([r["approach_m"] for r in rows])
-    assert np.all(np.diff(delta) > 0)
-    assert delta[0] < 0 < delta[-1]
-    scene = make_scene(**TABLE1)
-    np.testing.assert_allclose(
-        delta, np.asarray(jc.approach(scene, np.array([r["F_N"] for r in rows]), 220.0).approach), rtol=1e-12
-    )
-    assert (tmp_path / "approach.png").stat().st_size > 10_000
-
-
-def test_dynamics_command(tmp_path, capsys):
-    scene = tmp_path / "dyn.toml"
-    scene.write_text(
-        (ROOT / "data" / "scenes" / "table1_dynamics.toml").read_text().replace("sweep_count = 41", "sweep_count = 8")
-    )
-    assert main(["dynamics", str(scene), "--out", str(tmp_path), "--format", "json", "--no-progress"]) == 0
-    payload = json.loads(capsys.readouterr().out)
-    K = float(jc.solve(make_scene(**TABLE1), 220.0).stiffness)
-    np.testing.assert_allclose(payload["linear_resonance_Hz"], np.sqrt(K) / (2 * np.pi), rtol=1e-12)
-    assert len(payload["frequency_response"]) == 8
-    assert len(payload["resonance_vs_preload"]) == 31
-    assert all(r["status"] == "ok" for r in payload["frequency_response"])
-    for name in ("time_history.png", "frequency_response.png", "resonance_vs_preload.png", "time_history.csv"):
-        assert (tmp_path / name).stat().st_size > 1000
-
-
 @pytest.mark.parametrize("command", ["approach", "dynamics"])
 def test_only_scenes_that_ask_run_the_effect(tmp_path, capsys, command):
     assert main([command, str(ROOT / "data" / "scenes" / "table1_grinding.toml"), "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "does not ask for this effect" in err
     assert len(err.splitlines()) == 1
-
-
-def test_run_adds_the_approach_only_when_asked(tmp_path, capsys):
-    assert main(["run", "--out", str(tmp_path / "a"), "--format", "json"]) == 0
-    assert "approach_m" not in json.loads(capsys.readouterr().out)["rows"][0]
-    assert (
-        main(
-            [
-                "run",
-                str(ROOT / "data" / "scenes" / "table1_dynamics.toml"),
-                "--out",
-                str(tmp_path / "b"),
-                "--format",
-                "json",
-            ]
-        )
-        == 0
-    )
-    rows = json.loads(capsys.readouterr().out)["rows"]
-    assert all(np.isfinite(r["approach_m"]) for r in rows)
 
 
 ALL_OUT_OF_RANGE = (

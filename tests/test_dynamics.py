@@ -1,22 +1,25 @@
-"""The driven mass on the joint (diffrax), and fitting D and G from resonance against preload."""
+"""The driven mass on the joint (diffrax), fitting D and G from resonance against preload, and the command."""
+
+import json
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import ROOT, TABLE1, make_scene
 
 import fitting
 import jaxcontact as jc
 from jaxcontact.applications.dynamics import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
+from jaxcontact.cli import main
 
 MASS, PRELOAD = 1.0, 220.0
 
 
 @pytest.fixture(scope="module")
-def linear_frequency(table1_scene):
-    f, status = resonance_frequency(table1_scene, MASS, jnp.array([PRELOAD]))
+def linear_frequency(dynamics_scene):
+    f, status = resonance_frequency(dynamics_scene, MASS, jnp.array([PRELOAD]))
     assert int(status[0]) == 0
     return float(f[0])
 
@@ -25,14 +28,14 @@ def drive(f, zeta=0.05, amplitude=0.2):
     return Drive(mass=MASS, damping=2 * zeta * MASS * 2 * np.pi * f, preload=PRELOAD, amplitude=amplitude, frequency=f)
 
 
-def test_linear_resonance_is_sqrt_K_over_m(table1_scene, linear_frequency):
-    K = float(jc.solve(table1_scene, PRELOAD).stiffness)
+def test_linear_resonance_is_sqrt_K_over_m(dynamics_scene, linear_frequency):
+    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
     np.testing.assert_allclose(linear_frequency, np.sqrt(K / MASS) / (2 * np.pi), rtol=1e-13)
 
 
-def test_small_amplitude_response_peaks_at_the_linear_frequency(table1_scene, linear_frequency):
-    ratios = np.linspace(0.96, 1.04, 9)
-    amplitudes, status = frequency_response(table1_scene, drive(linear_frequency), ratios * linear_frequency)
+def test_small_amplitude_response_peaks_at_the_linear_frequency(dynamics_scene, linear_frequency):
+    ratios = np.linspace(0.96, 1.03, 8)  # the command's chunk of eight
+    amplitudes, status = frequency_response(dynamics_scene, drive(linear_frequency), ratios * linear_frequency)
     assert np.all(np.asarray(status) == 0)
     A = np.log(np.asarray(amplitudes))
     i = int(np.argmax(A))
@@ -43,12 +46,12 @@ def test_small_amplitude_response_peaks_at_the_linear_frequency(table1_scene, li
     # Damped peak of the linear oscillator: sqrt(1 - 2ζ²) = 0.9975 of the natural frequency.
     assert abs(peak - 1.0) < 0.01, peak
     # ... and its height is the linear one, F1 / (K 2ζ sqrt(1-ζ²)).
-    K = float(jc.solve(table1_scene, PRELOAD).stiffness)
+    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
     np.testing.assert_allclose(np.exp(A.max()), 0.2 / K / (2 * 0.05), rtol=2e-3)
 
 
-def test_time_history_is_consistent(table1_scene, linear_frequency):
-    response = simulate(table1_scene, drive(linear_frequency, amplitude=100.0), periods=30)
+def test_time_history_is_consistent(dynamics_scene, linear_frequency):
+    response = simulate(dynamics_scene, drive(linear_frequency, amplitude=100.0), periods=20)
     assert int(response.status) == 0
     F = np.asarray(response.contact_force)
     assert np.all(F > 0)  # a large, still closed, oscillation
@@ -56,7 +59,7 @@ def test_time_history_is_consistent(table1_scene, linear_frequency):
     # dF_c/dt = K(F_c) v: check at the saved points by finite differences of F_c.
     t, v = np.asarray(response.t), np.asarray(response.v)
     dF = np.gradient(F, t)
-    K = np.asarray(jc.solve(table1_scene, jnp.asarray(F)).stiffness)
+    K = np.asarray(jc.solve(dynamics_scene, jnp.asarray(F)).stiffness)
     np.testing.assert_allclose(dF[5:-5], (K * v)[5:-5], rtol=2e-2, atol=2e-2 * np.abs(K * v).max())
 
 
@@ -91,9 +94,9 @@ def test_drive_validation(kw, message):
         Drive(**(dict(mass=1.0, damping=10.0, preload=PRELOAD, amplitude=0.2, frequency=1e4) | kw))
 
 
-def test_fit_D_and_G_from_resonance_against_preload(table1_scene):
-    preloads = np.geomspace(1e-10, 1e-4, 30) * TABLE1["E"] * TABLE1["area"]
-    f, status = resonance_frequency(table1_scene, MASS, preloads)
+def test_fit_D_and_G_from_resonance_against_preload(dynamics_scene):
+    preloads = np.geomspace(1e-10, 1e-4, 31) * TABLE1["E"] * TABLE1["area"]
+    f, status = resonance_frequency(dynamics_scene, MASS, preloads)
     assert np.all(np.asarray(status) == 0)
     start = make_scene(**dict(TABLE1, D=1.55, G=1e-9))
     exact = fitting.fit_resonance(preloads, np.asarray(f), MASS, start)
@@ -106,3 +109,21 @@ def test_fit_D_and_G_from_resonance_against_preload(table1_scene):
     assert abs(result.values["D"] - TABLE1["D"]) < 0.01
     with pytest.raises(ValueError, match="mass = 0"):
         fitting.fit_resonance(preloads, np.asarray(f), 0, start)
+
+
+def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys, monkeypatch):
+    """`jaxcontact dynamics` (a sweep of one chunk): the tests above compiled its programs."""
+    monkeypatch.setenv("JAXCONTACT_CACHE", "")
+    scene = tmp_path / "dyn.toml"
+    scene.write_text(
+        (ROOT / "data" / "scenes" / "table1_dynamics.toml").read_text().replace("sweep_count = 41", "sweep_count = 8")
+    )
+    assert main(["dynamics", str(scene), "--out", str(tmp_path), "--format", "json", "--no-progress"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
+    np.testing.assert_allclose(payload["linear_resonance_Hz"], np.sqrt(K / MASS) / (2 * np.pi), rtol=1e-12)
+    assert len(payload["frequency_response"]) == 8
+    assert len(payload["resonance_vs_preload"]) == 31
+    assert all(r["status"] == "ok" for r in payload["frequency_response"])
+    for name in ("time_history.png", "frequency_response.png", "resonance_vs_preload.png", "time_history.csv"):
+        assert (tmp_path / name).stat().st_size > 1000
