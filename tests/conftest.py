@@ -32,6 +32,33 @@ import pytest  # noqa: E402
 
 import jaxcontact as jc  # noqa: E402
 
+# Whole files go to the two workers in this order, the longest (measured) first, so that the
+# workers finish together: xdist's own order (most tests first) left a few long files of few
+# tests for the end, with one worker idle. Files not named follow in their usual order.
+LONGEST_FIRST = (
+    "test_hard_cases.py",
+    "test_contract.py",
+    "test_fitting.py",
+    "test_dynamics.py",
+    "test_approach.py",
+    "test_gradients.py",
+    "test_topography.py",
+    "test_api.py",
+    "test_cli.py",
+    "test_programs.py",
+    "test_bem.py",
+    "test_quadrature.py",
+    "test_validation_table.py",
+    "test_sweep.py",
+    "test_compare_cli.py",
+)
+
+
+def pytest_collection_modifyitems(items):
+    rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's own order kept
+
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared"
 CHECKPOINTS = SHARED / "checkpoints.csv"
