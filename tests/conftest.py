@@ -4,6 +4,10 @@ import importlib.metadata
 import os
 
 os.environ.setdefault("JAX_PLATFORMS", "cpu")
+# `main()` called in-process keeps no programs in the user's home (~/.cache/jaxcontact): every
+# run of the suite compiles what a clean machine compiles. Tests of the kept programs give them
+# a temporary directory of their own.
+os.environ["JAXCONTACT_CACHE"] = ""
 # The suite's cost is XLA compiling the model's programs, most of them run once or a few times.
 # XLA's classic CPU loop emitters compile them in about half the time of the newer (MLIR) ones,
 # for the same numbers to round-off (`core.compiling`, where the fit's program asks for them).

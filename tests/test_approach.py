@@ -104,9 +104,8 @@ def test_gradients_match_finite_differences(table1_without_interaction):
             np.testing.assert_allclose(grad[j], (up - down) / (2 * e[j]), rtol=1e-5, err_msg=f"dδ{i}/d{'DG'[j]}")
 
 
-def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys, monkeypatch):
+def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys):
     """`jaxcontact approach`: the curve the library gives for the same scene (the same compiled program)."""
-    monkeypatch.setenv("JAXCONTACT_CACHE", "")
     assert main(["approach", "--out", str(tmp_path), "--format", "json"]) == 0
     payload = json.loads(capsys.readouterr().out)
     rows = payload["rows"]
@@ -120,8 +119,7 @@ def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys, mon
     assert (tmp_path / "approach.png").stat().st_size > 10_000
 
 
-def test_run_adds_the_approach_only_when_asked(tmp_path, capsys, monkeypatch):
-    monkeypatch.setenv("JAXCONTACT_CACHE", "")
+def test_run_adds_the_approach_only_when_asked(tmp_path, capsys):
     assert main(["run", "--out", str(tmp_path / "a"), "--format", "json"]) == 0
     assert "approach_m" not in json.loads(capsys.readouterr().out)["rows"][0]
     assert (

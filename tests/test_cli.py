@@ -15,11 +15,6 @@ import jaxcontact as jc
 from jaxcontact.cli import main
 
 
-@pytest.fixture(autouse=True)
-def no_cache(monkeypatch):
-    monkeypatch.setenv("JAXCONTACT_CACHE", "")
-
-
 def test_run_default_scene(tmp_path, capsys):
     assert main(["run", "--out", str(tmp_path), "--no-progress"]) == 0
     text = capsys.readouterr().out

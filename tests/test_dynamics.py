@@ -111,9 +111,8 @@ def test_fit_D_and_G_from_resonance_against_preload(dynamics_scene):
         fitting.fit_resonance(preloads, np.asarray(f), 0, start)
 
 
-def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys, monkeypatch):
+def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys):
     """`jaxcontact dynamics` (a sweep of one chunk): the tests above compiled its programs."""
-    monkeypatch.setenv("JAXCONTACT_CACHE", "")
     scene = tmp_path / "dyn.toml"
     scene.write_text(
         (ROOT / "data" / "scenes" / "table1_dynamics.toml").read_text().replace("sweep_count = 41", "sweep_count = 8")

@@ -213,10 +213,9 @@ def test_dimensionless_columns(table1):
     np.testing.assert_allclose(curve.stiffness[0], 1.04576 * 220e9 * 1e-2)
 
 
-def test_cli_fit(tmp_path, capsys, monkeypatch):
+def test_cli_fit(tmp_path, capsys):
     from jaxcontact.cli import main
 
-    monkeypatch.setenv("JAXCONTACT_CACHE", "")
     data = str(ROOT / "data" / "table1_grinding_generated.csv")
     assert main(["fit", data, "--format", "json", "--out", str(tmp_path), "--method", "lm"]) == 0
     payload = json.loads(capsys.readouterr().out)
