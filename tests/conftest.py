@@ -104,6 +104,12 @@ def with_params(scene, values):
     return scene
 
 
+def masked_log_stiffness_sum(sol, weights=1.0):
+    """Σ w ln K over a solution's valid points: flagged points add exactly 0, to every derivative too."""
+    ok = sol.ok
+    return jax.numpy.sum(jax.numpy.where(ok, weights * jax.numpy.log(jax.numpy.where(ok, sol.stiffness, 1.0)), 0.0))
+
+
 def params_of(scene):
     return jax.numpy.array([float(GETTERS[p](scene)) for p in PARAMS])
 

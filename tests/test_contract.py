@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from conftest import TABLE1, make_scene, masked_log_stiffness_sum
 from scipy import integrate, optimize
 from toy_model import AllElastic
 
@@ -43,7 +43,7 @@ def stiffness(scene, loads):
 def log_stiffness_sum(theta, scene, loads, weights):
     """Σ w ln K over the valid points at (D, ln G) = theta; flagged points contribute 0."""
     sol = jc.solve(with_D_and_G(scene, theta[0], jnp.exp(theta[1])), loads)
-    return jnp.sum(jnp.where(sol.ok, weights * jnp.log(jnp.where(sol.ok, sol.stiffness, 1.0)), 0.0))
+    return masked_log_stiffness_sum(sol, weights)
 
 
 _value_and_grad = eqx.filter_jit(jax.value_and_grad(log_stiffness_sum))
