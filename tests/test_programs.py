@@ -57,6 +57,13 @@ def test_buckets_are_octaves_to_128_loads_and_quarter_octaves_above():
     assert [programs.bucket(n) for n in sizes] == [32, 32, 32, 64, 128, 160, 160, 192, 224, 256, 320, 5120]
 
 
+@pytest.mark.parametrize("size", [1, 7, 200])
+def test_edge_padding_is_numpys(size):
+    values = np.geomspace(2.2, 2200.0, size)
+    target = programs.bucket(size)
+    np.testing.assert_array_equal(programs.edge_padded(values, target), np.pad(values, (0, target - size), mode="edge"))
+
+
 def test_padded_loads_give_what_an_exact_compilation_gives(table1_scene):
     loads = jnp.geomspace(2.2, 2200.0, 200)
     eager = jc.solve(table1_scene, loads)

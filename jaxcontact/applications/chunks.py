@@ -6,7 +6,7 @@ import jax
 import numpy as np
 
 from ..core.loadcontrol import solve
-from ..core.programs import bucket
+from ..core.programs import bucket, edge_padded
 from ..core.scene import Scene
 from ..core.solution import Solution
 
@@ -33,7 +33,7 @@ def map_in_chunks(fn, values, *, chunk: int, progress: bool = False, desc: str =
     pieces, sizes = [], []
     for start in starts:
         block = values[start : start + chunk]
-        pieces.append(jax.tree.map(np.asarray, fn(np.pad(block, (0, chunk - block.size), mode="edge"))))
+        pieces.append(jax.tree.map(np.asarray, fn(edge_padded(block, chunk))))
         sizes.append(block.size)
 
     def join(*xs):

@@ -105,14 +105,26 @@ def _pad(values, size):
     return jnp.concatenate([flat, jnp.broadcast_to(flat[-1], (size - flat.size,))])
 
 
+def edge_padded(values: np.ndarray, size: int) -> np.ndarray:
+    """Host `values` (non-empty) padded along their first axis to `size` by repeating the last.
+
+    What `np.pad(values, (0, n), mode="edge")` gives a 1-D array, without its argument handling
+    (~40 µs, an eighth of an eager 200-load solve).
+    """
+    out = np.empty((size, *values.shape[1:]), values.dtype)
+    out[: len(values)] = values
+    out[len(values) :] = values[-1]
+    return out
+
+
 def padded(loads):
     """Concrete `loads`, flattened and padded to their bucket by repeating the last load; traced
     or already a bucket long, as they are."""
     size = bucket(loads.size)
     if isinstance(loads, jax.core.Tracer) or size == loads.size:
         return loads
-    if isinstance(loads, np.ndarray):  # on the host already: padded there, for free (as `map_in_chunks` pads)
-        return np.pad(loads.reshape(-1), (0, size - loads.size), mode="edge")
+    if isinstance(loads, np.ndarray):  # on the host already: padded there (as `map_in_chunks` pads)
+        return edge_padded(loads.reshape(-1), size)
     return _pad(loads, size)
 
 
