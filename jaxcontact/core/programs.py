@@ -109,7 +109,7 @@ def edge_padded(values: np.ndarray, size: int) -> np.ndarray:
     """Host `values` (non-empty) padded along their first axis to `size` by repeating the last.
 
     What `np.pad(values, (0, n), mode="edge")` gives a 1-D array, without its argument handling
-    (~40 µs, an eighth of an eager 200-load solve).
+    (200 loads: 1.4 µs against 13.6 µs, of an eager solve's ~0.3 ms).
     """
     out = np.empty((size, *values.shape[1:]), values.dtype)
     out[: len(values)] = values
