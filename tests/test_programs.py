@@ -101,14 +101,6 @@ def test_a_kept_call_still_refuses_a_bad_load(table1_scene):
         jc.solve(table1_scene, np.array([2.2, -22.0]))
 
 
-def test_no_more_kept_calls_than_the_cap(monkeypatch):
-    monkeypatch.setattr(loadcontrol, "MAX_PLANS", 2)
-    scene = make_scene(**TABLE1)  # a new scene keeps nothing yet (and shares table1_scene's program)
-    for count in (1, 2, 3):
-        jc.solve(scene, np.geomspace(2.2, 22.0, count))
-    assert len(loadcontrol._last_scene["plans"]) == 1  # cleared at the third: that one alone
-
-
 def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):
     solution = jc.solve(table1_scene, np.array([2.2, 1e12, 22.0]))  # the middle load is beyond full contact
     assert solution.status.tolist() == [0, jc.Status.LOAD_OUT_OF_RANGE, 0]

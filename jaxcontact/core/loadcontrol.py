@@ -182,13 +182,11 @@ def _on_host(array: jax.Array) -> bool:
     return all(device.platform == "cpu" for device in array.devices())
 
 
-# The scene of the last eager call, flattened, checked and cast per working dtype, with its eager
-# path per kind of load array (`programs.Eager`, at most MAX_PLANS): a user who calls `solve` in a
-# loop on one scene pays for that once. Scenes are immutable, and the strong
+# The scene of the last eager call, flattened, checked and cast per working dtype: a user who
+# calls `solve` in a loop on one scene pays for that once. Scenes are immutable, and the strong
 # reference kept here makes the identity test sound. Nothing made inside a trace is kept: arrays
 # made there (even from a concrete scene a caller's `jit` closes over) belong to that trace.
 _last_scene: dict = {}
-MAX_PLANS = 64
 
 
 def _scene_leaves(scene: Scene, loads):
@@ -271,10 +269,7 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
     if plan is None:
         return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))
     if key is not None and _last_scene.get("scene") is scene:
-        plans = _last_scene["plans"]
-        if len(plans) >= MAX_PLANS:  # a caller looping over lengths keeps the latest, not all
-            plans.clear()
-        plans[key] = plan
+        _last_scene["plans"][key] = plan
     return plan(loads)
 
 
