@@ -15,8 +15,8 @@ from jaxcontact.core import compiling, loadcontrol, programs
 
 
 def _compiled_lengths(scene):
-    compiled = programs.program(loadcontrol._solve, jax.tree_util.tree_structure(scene))
-    return compiled.packed._cache_size() + compiled.flat._cache_size()
+    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    return programs.program(loadcontrol._solve, treedef).flat._cache_size()
 
 
 def test_one_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
@@ -80,25 +80,6 @@ def test_padded_loads_keep_their_shape(table1_scene):
     assert solution.load_share.shape == (3, 5, 4)
     assert solution.modulus.shape == (1, 1)
     np.testing.assert_array_equal(solution.load, loads)
-
-
-def test_loads_a_bucket_long_keep_their_shape(table1_scene):
-    loads = np.geomspace(2.2, 2200.0, 32)
-    grid = jc.solve(table1_scene, loads.reshape(4, 8))
-    np.testing.assert_array_equal(grid.stiffness, jc.solve(table1_scene, loads).stiffness.reshape(4, 8))
-
-
-def test_a_kept_call_gives_each_calls_own_loads(table1_scene):
-    jc.solve(table1_scene, np.geomspace(2.2, 22.0, 7))
-    later = np.geomspace(220.0, 2200.0, 7)  # the same kind of array: the kept path
-    longer = jc.solve(table1_scene, np.append(later, 1.0))  # another length: another path
-    np.testing.assert_array_equal(jc.solve(table1_scene, later).stiffness, longer.stiffness[:7])
-
-
-def test_a_kept_call_still_refuses_a_bad_load(table1_scene):
-    jc.solve(table1_scene, np.array([2.2, 22.0]))
-    with pytest.raises(ValueError, match=r"loads\[1\] = -22.0 N is not a valid load"):
-        jc.solve(table1_scene, np.array([2.2, -22.0]))
 
 
 def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):

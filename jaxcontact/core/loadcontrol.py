@@ -30,14 +30,12 @@ from .solution import Solution, is_solved, masked_rescale
 from .status import Status
 
 
-def _plainly_valid(values: np.ndarray) -> bool:
-    # Two reductions decide the common case; NaN fails `> 0` and falls through to the search.
-    return bool(values.size) and values.min() > 0 and values.max() < np.inf
-
-
 def _check_loads(loads) -> None:
     values = concrete(loads)
-    if values is None or _plainly_valid(values):
+    if values is None:
+        return
+    # Two reductions decide the common case; NaN fails `> 0` and falls through to the search.
+    if values.size and values.min() > 0 and values.max() < np.inf:
         return
     bad = ~(np.isfinite(values) & (values > 0))
     if np.any(bad):
@@ -197,7 +195,7 @@ def _scene_leaves(scene: Scene, loads):
     leaves, treedef = jax.tree_util.tree_flatten(scene)
     if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
         _check_scalar_parameters(scene)
-    entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={}, plans={})
+    entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
     if not keep:  # traced leaves too: they exist only inside a trace
         return _cast(entry, loads, keep=False)
     _last_scene.clear()
@@ -258,27 +256,5 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
 
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
-    key = _plan_key(loads)
-    plan = _last_scene["plans"].get(key) if _last_scene.get("scene") is scene else None
-    if plan is not None:
-        values = np.asarray(loads, plan.dtype)
-        if _plainly_valid(values):  # else the whole way, whose check names the bad load
-            return plan(values)
     _, leaves, treedef, loads = _prepare(scene, loads)
-    plan = programs.eager(_solve, leaves, treedef, loads)
-    if plan is None:
-        return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))
-    if key is not None and _last_scene.get("scene") is scene:
-        _last_scene["plans"][key] = plan
-    return plan(loads)
-
-
-def _plan_key(loads):
-    """What decides an eager call's path besides the scene: the kind of the loads, their shape
-    and dtype (and weak type) and the x64 flag; `None` for loads that are not one array or number."""
-    kind = type(loads)
-    if kind in (float, int):
-        return kind, jax.config.jax_enable_x64
-    if kind is np.ndarray or (isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer)):
-        return kind, loads.shape, loads.dtype, getattr(loads, "weak_type", False), jax.config.jax_enable_x64
-    return None
+    return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))

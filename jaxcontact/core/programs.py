@@ -6,10 +6,8 @@ and XLA compiles a new program for every new length of the load array (seconds, 
 fraction of a millisecond to run it). So the program is a plain `jax.jit` of the scene's leaves,
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
 load arrays (a single load too) are padded to a few bucket lengths: a user who calls with 1, 7,
-30 and 200 loads compiles the solve twice (32 and 224), and only a cheap cut per length. At
-top level the program returns its outputs packed into one array per dtype (`_pack`), which the
-cut unpacks, and the caller keeps the whole path (`Eager`) for its next call with the same kind
-of loads. Where the command line keeps programs on disk (`core.exported`), a top-level call reads its
+30 and 200 loads compiles the solve twice (32 and 224), and only a cheap slice per length.
+Where the command line keeps programs on disk (`core.exported`), a top-level call reads its
 program from there, so that a new process does not trace it again.
 """
 
@@ -49,13 +47,11 @@ def bucket(size: int) -> int:
 
 class _Program:
     """`function(tree, loads)` jitted over the tree's leaves, returning its outputs' leaves (and
-    keeping their structure, known once traced), so that an eager call flattens nothing twice;
-    and the same with its outputs packed (`_pack`), for an eager call's cut."""
+    keeping their structure, known once traced), so that an eager call flattens nothing twice."""
 
     def __init__(self, function, treedef):
         self.output_tree = None
         self.roles = {}
-        self.layouts = {}
         self.on_disk = {}
         self.name = f"{function.__module__}.{function.__qualname__}"
         self.treedef = treedef
@@ -66,13 +62,8 @@ class _Program:
             )
             return outputs
 
-        def packed(leaves, loads):
-            self.layouts[loads.shape, loads.dtype], groups = _pack(flat(leaves, loads), loads.shape[0])
-            return groups
-
         self.function = flat
         self.flat = jax.jit(flat)
-        self.packed = jax.jit(packed)
 
     def run(self, leaves, loads):
         """The outputs' leaves for concrete arguments, at top level: from a program kept on disk
@@ -155,42 +146,6 @@ def unpadded(per_load, size: int, shape: tuple[int, ...]) -> list:
     return _unpad(size, shape)(list(per_load), [])[0]
 
 
-def _pack(outputs, size: int):
-    """The outputs as one `(rows, size)` array per dtype, and where each output lies in them.
-
-    Every array a jitted call returns costs it ~3 µs (a Solution has nine), and the cut of padded
-    outputs returns them all again: packed, the program returns two arrays and the cut
-    (`_unpack`) gives the nine (the solve of 200 loads: ~35 µs less per call). Per-load outputs
-    (leading axis `size`) are rows of their transpose; per-call ones are broadcast along the rows.
-    """
-    groups: dict = {}
-    layout = []
-    for x in outputs:
-        per_load = bool(x.ndim) and x.shape[0] == size
-        rows = x.reshape(size, -1).T if per_load else jnp.broadcast_to(x.reshape(-1, 1), (x.size, size))
-        group = groups.setdefault(x.dtype, [])
-        start = sum(len(r) for r in group)
-        group.append(rows)
-        layout.append((list(groups).index(x.dtype), start, start + len(rows), x.shape[1:], per_load))
-    return tuple(layout), [jnp.concatenate(rows) for rows in groups.values()]
-
-
-@functools.lru_cache(maxsize=256)
-def _unpack(layout: tuple, count: int, shape: tuple[int, ...]):
-    """One jitted cut of `_pack`'s arrays into the outputs for the first `count` loads, per-load
-    ones shaped `shape + trailing` and per-call ones to broadcast against `shape`."""
-
-    def cut(groups):
-        return [
-            groups[g][start:stop, :count].T.reshape(shape + trailing)
-            if per_load
-            else groups[g][start:stop, 0].reshape((1,) * len(shape))
-            for g, start, stop, trailing, per_load in layout
-        ]
-
-    return jax.jit(cut)
-
-
 def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int], list[int]]:
     """Which outputs are per load (leading axis `size`) and which per call, once per program and
     bucket: reading every output's shape costs more than the cut itself."""
@@ -203,34 +158,6 @@ def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int]
     return compiled.roles[key]
 
 
-class Eager:
-    """A top-level call's whole path, for one tree of leaves and one kind of load array: pad the
-    loads on the host, run the packed program, cut its outputs. Two dispatches and no lookups, so
-    that a caller who keeps it (`solve` does, per scene and kind of loads) pays nothing else."""
-
-    def __init__(self, compiled: _Program, leaves, loads):
-        self.compiled, self.leaves, self.packed = compiled, leaves, compiled.packed
-        self.count, self.shape, self.dtype = loads.size, loads.shape, loads.dtype
-        self.unpack = None
-
-    def __call__(self, loads):
-        """The outputs' tree for `loads`, an array of the shape and dtype this plan was made for."""
-        padded_loads = padded(loads if loads.ndim == 1 else loads.reshape(-1))
-        groups = self.packed(self.leaves, padded_loads)
-        if self.unpack is None:  # the layout is known once the packed program is traced
-            layout = self.compiled.layouts[padded_loads.shape, padded_loads.dtype]
-            self.unpack = _unpack(layout, self.count, self.shape)
-        return jax.tree_util.tree_unflatten(self.compiled.output_tree, self.unpack(groups))
-
-
-def eager(function, leaves, treedef, loads) -> Eager | None:
-    """The `Eager` plan of `function` for these leaves and concrete, non-empty `loads` at top
-    level; `None` where `call` takes another path (traced, empty, or programs kept on disk)."""
-    if isinstance(loads, jax.core.Tracer) or not loads.size or not top_level() or exported.active():
-        return None
-    return Eager(program(function, treedef), leaves, loads)
-
-
 def call(function, leaves, treedef, loads, output_tree):
     """`function(tree, loads)`, for the tree of these leaves, through its cached program; concrete
     loads padded to a bucket.
@@ -240,9 +167,6 @@ def call(function, leaves, treedef, loads, output_tree):
     (the caller's own `jit`, `grad` or `vmap`) nothing is padded. `output_tree(leaves)` gives the
     outputs' tree structure where the program was read from disk, not traced.
     """
-    plan = eager(function, leaves, treedef, loads)
-    if plan is not None:
-        return plan(loads)
     compiled = program(function, treedef)
     run = compiled.run if top_level() else compiled.flat
     padded_loads = padded(loads)
