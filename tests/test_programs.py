@@ -82,6 +82,12 @@ def test_padded_loads_keep_their_shape(table1_scene):
     np.testing.assert_array_equal(solution.load, loads)
 
 
+def test_loads_a_bucket_long_keep_their_shape(table1_scene):
+    loads = np.geomspace(2.2, 2200.0, 32)
+    grid = jc.solve(table1_scene, loads.reshape(4, 8))
+    np.testing.assert_array_equal(grid.stiffness, jc.solve(table1_scene, loads).stiffness.reshape(4, 8))
+
+
 def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):
     solution = jc.solve(table1_scene, np.array([2.2, 1e12, 22.0]))  # the middle load is beyond full contact
     assert solution.status.tolist() == [0, jc.Status.LOAD_OUT_OF_RANGE, 0]
