@@ -63,3 +63,16 @@ def test_bench_refuses_a_spot_stiffness_the_baseline_does_not_implement():
 
     with pytest.raises(ValueError, match="spot_stiffness = 'sneddon'"):
         _baseline(make_scene(**CASES[0], spot_stiffness="sneddon"))
+
+
+def test_bench_times_the_users_call_under_jax_defaults():
+    """The plain call's verdict is taken in a fresh process with JAX's defaults: asynchronous
+    dispatch, which the test process (x64 switched on, nothing else) has too, and the command line
+    does not; the child's curve is timed against its own scipy run."""
+    from jaxcontact.studies.bench_user import curve_as_users_call_it
+
+    scene = make_scene(**CASES[0], interaction="none", regime_shares=False)
+    result = curve_as_users_call_it(scene, rounds=1, repeats=2)
+    assert result["async_dispatch"] is True
+    timed = {name for name, value in result.items() if isinstance(value, dict) and value["median_s"] > 0}
+    assert timed == {"scipy", "plain", "filter_jit", "jit", "jit_baseline_outputs", "jit_stiffness_only"}

@@ -27,6 +27,7 @@ from scipy import optimize
 from ..core.loadcontrol import solve
 from ..core.scales import Scales
 from ..core.scene import Scene
+from .bench_user import curve_as_users_call_it
 from .scipy_baseline import BaselineParameters, solve_curve
 
 TARGETS = {
@@ -262,6 +263,7 @@ def compilation_cache() -> dict:
 def run_all(scene: Scene, progress=None) -> dict:
     steps = [
         ("curve", curve),
+        ("curve_as_users_call_it", curve_as_users_call_it),
         ("gradient", gradient),
         ("fit", fit),
         ("throughput", throughput),
