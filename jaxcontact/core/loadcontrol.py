@@ -222,14 +222,33 @@ def _cast(entry: dict, loads, keep: bool):
     return dtype, *cast, entry["treedef"]
 
 
+# The JAX load array of the last eager call, with its working dtype and prepared form: a user who
+# solves many scenes at one array of loads has it checked once (the check reads it on the host,
+# a fifth of an eager call's overhead). JAX arrays are immutable, and the strong reference kept
+# here makes the identity test sound; numpy arrays can change in place and are checked every time.
+_last_loads: tuple = (None, None, None)
+
+
 def _prepare(scene: Scene, loads):
-    _check_loads(loads)
+    last, last_dtype, last_prepared = _last_loads
+    seen = last is loads
+    if not seen:
+        _check_loads(loads)
     dtype, scene, leaves, treedef = _scene_leaves(scene, loads)
+    if seen and last_dtype == dtype:
+        return scene, leaves, treedef, last_prepared
     if isinstance(loads, jax.core.Tracer) or (isinstance(loads, jax.Array) and not _on_host(loads)):
-        loads = loads if loads.dtype == dtype else loads.astype(dtype)
+        prepared = loads if loads.dtype == dtype else loads.astype(dtype)
     else:  # host arrays go to a jitted program as they are, faster than through jnp.asarray
-        loads = np.asarray(loads, dtype=dtype)
-    return scene, leaves, treedef, loads
+        prepared = np.asarray(loads, dtype=dtype)
+    if isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer) and top_level():
+        _remember_loads(loads, dtype, prepared)
+    return scene, leaves, treedef, prepared
+
+
+def _remember_loads(*entry) -> None:
+    global _last_loads
+    _last_loads = entry
 
 
 def prepare(scene: Scene, loads):
