@@ -93,6 +93,29 @@ def test_the_padding_does_not_leak_into_a_flagged_batch(table1_scene):
     assert solution.status.tolist() == [0, jc.Status.LOAD_OUT_OF_RANGE, 0]
 
 
+def test_jax_load_arrays_checked_once_each_get_their_own_solution(table1_scene):
+    a, b = np.geomspace(2.2, 2200.0, 7), np.geomspace(3.0, 3000.0, 7)
+    expected = [jc.solve(table1_scene, x).stiffness for x in (a, a, b, b, a)]  # numpy: checked every call
+    a, b = jnp.asarray(a), jnp.asarray(b)
+    got = [jc.solve(table1_scene, x).stiffness for x in (a, a, b, b, a)]
+    np.testing.assert_array_equal(np.stack(got), np.stack(expected))
+
+
+def test_a_bad_jax_load_array_is_refused_at_every_call(table1_scene):
+    loads = jnp.array([22.0, -1.0])
+    for _ in range(2):
+        with pytest.raises(ValueError, match=r"loads\[1\] = -1.0 N"):
+            jc.solve(table1_scene, loads)
+
+
+def test_a_numpy_load_array_changed_in_place_is_checked_again(table1_scene):
+    loads = np.array([22.0, 220.0])
+    jc.solve(table1_scene, loads)
+    loads[1] = np.nan
+    with pytest.raises(ValueError, match=r"loads\[1\] = nan N"):
+        jc.solve(table1_scene, loads)
+
+
 def _counting(calls):
     def function(x, pair):
         calls.append(1)  # once per trace
