@@ -6,7 +6,7 @@ notebook or a script makes them. This module times `bench.curve` (scipy and ever
 interleaved, in the same run) in a fresh Python process that switches float64 on and nothing else:
 asynchronous dispatch, no persistent compilation cache, no stored programs.
 
-Run as `python -m jaxcontact.studies.bench_user`: a pickled `(scene, rounds, repeats)` on stdin,
+Run as `python -m jaxcontact.studies.bench_user`: a pickled `(scene, rounds, repeats, only)` on stdin,
 the curve's results as JSON on stdout.
 """
 
@@ -20,20 +20,23 @@ import sys
 from ..core.scene import Scene
 
 
-def curve_as_users_call_it(scene: Scene, rounds: int = 10, repeats: int = 30) -> dict:
-    """`bench.curve(scene, rounds, repeats)` in a fresh process under JAX's default settings.
+def curve_as_users_call_it(scene: Scene, rounds: int = 10, repeats: int = 30, only=None) -> dict:
+    """`bench.curve(scene, rounds, repeats, only)` in a fresh process under JAX's default settings.
 
     **Arguments:**
 
     - `scene`: the scene to time (pickled to the child process).
-    - `rounds`, `repeats`: as in `bench.curve`.
+    - `rounds`, `repeats`, `only`: as in `bench.curve`.
 
     **Returns:** `bench.curve`'s dictionary, with `"async_dispatch"` as the child process had it.
     """
     # The environment is inherited: JAX_ and XLA_ variables are the user's settings, as a script
     # of theirs would see them.
     child = subprocess.run(
-        [sys.executable, "-m", __name__], input=pickle.dumps((scene, rounds, repeats)), capture_output=True, check=False
+        [sys.executable, "-m", __name__],
+        input=pickle.dumps((scene, rounds, repeats, only)),
+        capture_output=True,
+        check=False,
     )
     if child.returncode != 0:
         raise RuntimeError(f"the default-settings curve failed:\n{child.stderr.decode(errors='replace')[-2000:]}")
@@ -46,8 +49,8 @@ def _main() -> None:
     jax.config.update("jax_enable_x64", True)
     from .bench import curve
 
-    scene, rounds, repeats = pickle.loads(sys.stdin.buffer.read())
-    result = curve(scene, rounds=rounds, repeats=repeats)
+    scene, rounds, repeats, only = pickle.loads(sys.stdin.buffer.read())
+    result = curve(scene, rounds=rounds, repeats=repeats, only=only)
     result["async_dispatch"] = bool(jax.config.read("jax_cpu_enable_async_dispatch"))
     json.dump(result, sys.stdout)
 
