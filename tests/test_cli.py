@@ -342,6 +342,23 @@ def test_bench_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     assert saved["scene"]["parameters_SI"]["D"] == TABLE1["D"]
 
 
+def test_bench_compiles_without_the_persistent_cache(tmp_path, capsys, monkeypatch):
+    """The bench's compile times are compilations, not reads of `JAXCONTACT_CACHE`."""
+    import jax
+
+    from jaxcontact.studies import bench, bench_report
+
+    seen = []
+    monkeypatch.setenv("JAXCONTACT_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(
+        bench, "run_all", lambda scene, progress=None: seen.append(jax.config.values["jax_compilation_cache_dir"]) or {}
+    )
+    monkeypatch.setattr(bench_report, "format_results", lambda results: "")
+    main(["bench", "--out", str(tmp_path / "out"), "--no-progress"])
+    capsys.readouterr()
+    assert seen and seen[0] != str(tmp_path / "cache")
+
+
 def test_approach_refuses_a_preload_outside_the_model(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     text = (ROOT / "data" / "scenes" / "table1_dynamics.toml").read_text()

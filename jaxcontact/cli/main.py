@@ -27,6 +27,9 @@ EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
 # The commands that draw figures with matplotlib.
 DRAWING = frozenset({"run", "surface", "approach", "dynamics", "compare", "figures", "fit", "accuracy"})
+# The commands that time compilations: run without the persistent cache, whose reads they would
+# time instead (JAX decides once per process whether to use it, at the first compilation).
+TIMING = frozenset({"bench"})
 
 
 _SETTINGS = (
@@ -39,12 +42,13 @@ _SETTINGS = (
 
 
 @contextlib.contextmanager
-def command_settings():
+def command_settings(persistent_cache: bool = True):
     """The command line's global settings while a command runs; the caller's afterwards.
 
     float64; compiled calls run on the calling thread; a persistent compilation cache
-    (`JAXCONTACT_CACHE`, "" for none); and the imported modules left out of garbage collection.
-    Restored on exit, so that `main()` called in-process (tests, notebooks) changes nothing.
+    (`JAXCONTACT_CACHE`, "" for none; none at all without `persistent_cache`); and the imported
+    modules left out of garbage collection. Restored on exit, so that `main()` called in-process
+    (tests, notebooks) changes nothing.
     """
     import gc
 
@@ -59,6 +63,7 @@ def command_settings():
     # Sharded (multi-device) computations stay asynchronous.
     jax.config.update("jax_cpu_enable_async_dispatch", False)
     cache = os.environ.get("JAXCONTACT_CACHE", str(pathlib.Path.home() / ".cache" / "jaxcontact" / "xla"))
+    cache = cache if persistent_cache else ""
     programs = None
     if cache:
         try:
@@ -218,7 +223,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     drawing = plotting_imported_while_compiling() if args.command in DRAWING else contextlib.nullcontext()
     try:
-        with command_settings(), drawing:
+        with command_settings(persistent_cache=args.command not in TIMING), drawing:
             return args.func(args)
     except (
         InputError,

@@ -264,6 +264,10 @@ def compilation_cache() -> dict:
 
 
 def run_all(scene: Scene, progress=None) -> dict:
+    """Every timing of the bench. Its compile times are compilations only in a process that keeps
+    no persistent compilation cache (the command line runs the bench without one; a process that
+    has compiled with one keeps reading it, whatever `jax_enable_compilation_cache` says later).
+    The command line's cache is timed in processes of its own (`compilation_cache`)."""
     steps = [
         ("curve", curve),
         ("curve_as_users_call_it", lambda s: curve_as_users_call_it(s, only=("plain", "filter_jit"))),
@@ -278,13 +282,6 @@ def run_all(scene: Scene, progress=None) -> dict:
         "devices": len(jax.devices()),
         "async_dispatch": bool(jax.config.read("jax_cpu_enable_async_dispatch")),
     }
-    # Compile times must be compilations, not reads of the CLI's persistent cache (the CLI's
-    # cache is timed separately, in its own processes, by `compilation_cache`).
-    enabled = jax.config.jax_enable_compilation_cache
-    jax.config.update("jax_enable_compilation_cache", False)
-    try:
-        for name, step in steps if progress is None else progress(steps):
-            results[name] = step(scene)
-    finally:
-        jax.config.update("jax_enable_compilation_cache", enabled)
+    for name, step in steps if progress is None else progress(steps):
+        results[name] = step(scene)
     return results
