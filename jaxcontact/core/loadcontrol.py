@@ -230,6 +230,7 @@ _last_loads: tuple = (None, None, None)
 
 
 def _prepare(scene: Scene, loads):
+    global _last_loads
     last, last_dtype, last_prepared = _last_loads
     seen = last is loads
     if not seen:
@@ -242,13 +243,8 @@ def _prepare(scene: Scene, loads):
     else:  # host arrays go to a jitted program as they are, faster than through jnp.asarray
         prepared = np.asarray(loads, dtype=dtype)
     if isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer) and top_level():
-        _remember_loads(loads, dtype, prepared)
+        _last_loads = (loads, dtype, prepared)
     return scene, leaves, treedef, prepared
-
-
-def _remember_loads(*entry) -> None:
-    global _last_loads
-    _last_loads = entry
 
 
 def prepare(scene: Scene, loads):

@@ -27,19 +27,21 @@ def format_results(r: dict) -> str:
             for k in calls
         ]
 
+    def dispatch(asynchronous):
+        return "asynchronous" if asynchronous else "synchronous"
+
     u = r["curve_as_users_call_it"]
-    dispatch = "asynchronous" if u["async_dispatch"] else "synchronous"
     lines = [
         f"device: {r['device']} ({r['devices']} device(s)); float64; after compilation (200-load curves: "
         f"{c['rounds']} rounds of scipy once and each jaxcontact call {c['repeats']} times, interleaved; "
         "the rest best of 5)",
         "",
-        f"200-load curve as users call it (a fresh process, JAX's default settings: {dispatch} dispatch), "
-        f"scipy median {u['scipy']['median_s']:.3f} s; jaxcontact (median / p90 / best, ms; speed-up over scipy "
-        "and time over jax.jit, of the medians):",
+        "200-load curve as users call it (a fresh process, JAX's default settings: "
+        f"{dispatch(u['async_dispatch'])} dispatch), scipy median {u['scipy']['median_s']:.3f} s; "
+        "jaxcontact (median / p90 / best, ms; speed-up over scipy and time over jax.jit, of the medians):",
         *curve_rows(u, ("plain", "filter_jit", "jit")),
         f"  plain call within 1.5x of jax.jit: {verdict(u['plain']['over_jit_median'] <= 1.5)}",
-        f"200-load curve in this process ({'asynchronous' if r['async_dispatch'] else 'synchronous'} dispatch), "
+        f"200-load curve in this process ({dispatch(r['async_dispatch'])} dispatch), "
         f"scipy median {c['scipy']['median_s']:.3f} s:",
         *curve_rows(c, CURVE_CALLS),
         f"  same outputs as scipy >= 1000x faster: {verdict(c['jit_baseline_outputs']['speedup_median'] >= 1000)}",

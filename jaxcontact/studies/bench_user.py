@@ -20,7 +20,9 @@ import sys
 from ..core.scene import Scene
 
 
-def curve_as_users_call_it(scene: Scene, rounds: int = 10, repeats: int = 30, only=None) -> dict:
+def curve_as_users_call_it(
+    scene: Scene, rounds: int = 10, repeats: int = 30, only: tuple[str, ...] | None = None
+) -> dict:
     """`bench.curve(scene, rounds, repeats, only)` in a fresh process under JAX's default settings.
 
     **Arguments:**
