@@ -34,6 +34,25 @@ def test_compare_prints_the_grid_convergence(default_run, capsys):
     assert "grid convergence: K at 128² differs from 256² by at most" in capsys.readouterr().out
 
 
+def test_an_edited_cache_entry_is_recomputed_and_reported_once(default_run, capsys):
+    """Issue 35.1: a number edited in a cache entry never reaches the table."""
+    out, argv = default_run
+    assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    before = json.loads(capsys.readouterr().out)["rows"]
+    entry = sorted((out / "cache").glob("*.json"))[0]
+    edited = json.loads(entry.read_text())
+    edited["row"]["stiffness"] *= 3.0
+    entry.write_text(json.dumps(edited))
+    assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.splitlines() == [
+        f"jaxcontact compare: warning: cache entry {entry} was invalid (its checksum does not match its content); "
+        "recomputed"
+    ]
+    after = json.loads(captured.out)["rows"]
+    assert [r["K_bem_mean_N_per_m"] for r in after] == [r["K_bem_mean_N_per_m"] for r in before]
+
+
 def test_a_grid_too_coarse_is_one_line(capsys, tmp_path):
     assert main(["compare", "--grid", "128", "--out", str(tmp_path), "--no-progress"]) == 2
     err = capsys.readouterr().err.strip().splitlines()

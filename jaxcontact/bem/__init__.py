@@ -5,7 +5,7 @@ synthesises realisations of a scene's surface and reports their mean, spread and
 convergence. Results are cached on disk (`ResultCache`).
 """
 
-from .cache import ResultCache, default_directory
+from .cache import CacheWarning, ResultCache, default_directory
 from .solver import BEMResult, BEMSettings, bem_stiffness
 from .study import ReferenceCurves, realisation, reference_curves
 from .surfaces import check_grid, coarsened, synthesised_surface
@@ -13,6 +13,7 @@ from .surfaces import check_grid, coarsened, synthesised_surface
 __all__ = [
     "BEMResult",
     "BEMSettings",
+    "CacheWarning",
     "ReferenceCurves",
     "ResultCache",
     "bem_stiffness",

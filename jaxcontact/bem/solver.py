@@ -141,7 +141,8 @@ def bem_stiffness(
     - `substrate`: "periodic" (the map repeats; `stiffness_q0 = 0`) or "free" (an isolated
       half-space). None takes "periodic" for a periodic map and refuses a non-periodic one.
     - `settings`: `BEMSettings` (difference step, tolerance, iteration cap).
-    - `cache`: a `ResultCache`; each load's result is kept on disk keyed by every input.
+    - `cache`: a `ResultCache`; each load's result is kept on disk keyed by every input, and an
+      entry that fails its check is recomputed (with a `CacheWarning`), never used.
     - `progress`: called as `progress(done, total)` after each load.
 
     **Returns:** a `BEMResult`. A solve that reaches the iteration cap gives `NOT_CONVERGED`; a
@@ -162,14 +163,16 @@ def bem_stiffness(
     if cache is not None:
         surface_key = cache.surface_key(heights, topography.physical_sizes, modulus, substrate, settings)
     for done, load in enumerate(loads, start=1):
-        key = None
+        key, row, invalid = None, None, None
         if cache is not None:
             key = cache.key(surface_key, load)
-            row = cache.get(key)
-        if cache is None or row is None:
+            row, invalid = cache.lookup(key)
+        if row is None:
             row = _one_load(system, topography, float(load), pentol, settings)
             if cache is not None:
                 cache.put(key, row)
+                if invalid:
+                    cache.report_invalid(key, invalid)
         rows.append(row)
         if progress is not None:
             progress(done, len(loads))

@@ -218,12 +218,34 @@ def plotting_imported_while_compiling():
             unregister(on_event)
 
 
+@contextlib.contextmanager
+def warnings_as_lines(command: str):
+    """The library's warnings (`warnings.warn`) on stderr as one line each, each message once."""
+    import warnings
+
+    from ..numerics.validate import JaxcontactWarning
+
+    seen = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())
+        if text not in seen:
+            seen.add(text)
+            print(f"jaxcontact {command}: warning: {text}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        # Each command shows the library's own warnings, even those an earlier in-process call showed.
+        warnings.simplefilter("always", JaxcontactWarning)
+        warnings.showwarning = show
+        yield
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     drawing = plotting_imported_while_compiling() if args.command in DRAWING else contextlib.nullcontext()
     try:
-        with command_settings(persistent_cache=args.command not in TIMING), drawing:
+        with command_settings(persistent_cache=args.command not in TIMING), drawing, warnings_as_lines(args.command):
             return args.func(args)
     except (
         InputError,

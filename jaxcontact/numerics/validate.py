@@ -18,6 +18,15 @@ class InputError(ValueError):
     value and what is allowed; the command line reports it in one line (exit status 2)."""
 
 
+class JaxcontactWarning(UserWarning):
+    """A warning of jaxcontact's own: a value that is valid but probably not what was meant, or a
+    result recomputed because what was stored was not valid. The command line shows each in one line."""
+
+
+class PlausibilityWarning(JaxcontactWarning):
+    """A parameter outside what engineering surfaces and instruments have: most likely a unit mistake."""
+
+
 def as_array(value):
     """Numbers and arrays become JAX arrays (pytree leaves that `eqx.filter_grad`, `filter_jit`
     and `filter_vmap` treat as parameters); tracers pass through.
