@@ -11,13 +11,14 @@ import contextlib
 import importlib
 import os
 import pathlib
+import re
 import sys
 import threading
 import traceback
 
 from ..core.exported import exported_programs
 from ..numerics.compat import avoid_host_callbacks_in_checks
-from ..numerics.validate import InputError
+from ..numerics.validate import InputError, command_line_spelling
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .compare_commands import DEFAULT_COMPARE_SCENE, add_compare_options, cmd_compare
 from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
@@ -98,8 +99,22 @@ def _version() -> str:
     return __version__
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse, with "-1e-3" read as a number (argparse's own pattern misses exponents), so that a
+    negative value reaches its option and is refused there by name."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
+def _options_by_name(parser) -> dict[str, str]:
+    """{argument name: "--option"} for the options of a (sub)command, for messages in its spelling."""
+    return {a.dest: max(a.option_strings, key=len) for a in parser._actions if a.option_strings}
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="jaxcontact", description=__doc__.splitlines()[0])
+    parser = Parser(prog="jaxcontact", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"jaxcontact {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -178,6 +193,8 @@ def build_parser() -> argparse.ArgumentParser:
     scene_command(
         "bench", "time the compiled model: speed against scipy, each effect's cost", cmd_bench, "jaxcontact-out"
     )
+    for command in sub.choices.values():
+        command.set_defaults(options_by_name=_options_by_name(command))
     return parser
 
 
@@ -245,7 +262,12 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     drawing = plotting_imported_while_compiling() if args.command in DRAWING else contextlib.nullcontext()
     try:
-        with command_settings(persistent_cache=args.command not in TIMING), drawing, warnings_as_lines(args.command):
+        with (
+            command_settings(persistent_cache=args.command not in TIMING),
+            drawing,
+            warnings_as_lines(args.command),
+            command_line_spelling(args.options_by_name),
+        ):
             return args.func(args)
     except (
         InputError,

@@ -13,7 +13,17 @@ from .scenefile import DEFAULT_SCENE
 
 def add_topography_options(p) -> None:
     p.add_argument("--tip-radius", type=float, help="stylus tip radius (m), where the file does not say it")
-    p.add_argument("--size", type=float, nargs="+", help="physical size (m): L for a line scan, Lx Ly for a map")
+    p.add_argument(
+        "--size",
+        type=float,
+        nargs="+",
+        help="physical size (m): L for a line scan, LX LY for a map; overrides the file's",
+    )
+    p.add_argument(
+        "--unit",
+        choices=("m", "mm", "µm", "um", "nm"),
+        help="unit of the heights (and of x in an x–z text profile) where the file gives none (default: m)",
+    )
     p.add_argument("--band", type=float, nargs=2, metavar=("SHORT", "LONG"), help="fit band, wavelengths in m")
     p.add_argument("--fill-undefined", action="store_true", help="fill NaN or missing points by interpolation")
     p.add_argument("--groups", type=int, help="independent tiles or segments for the uncertainty (default 16/9, 8)")
@@ -25,7 +35,7 @@ def characterise_file(args, method: str = "psd"):
 
     path = getattr(args, "file", None) or args.topography
     size = None if args.size is None else (args.size[0] if len(args.size) == 1 else tuple(args.size))
-    topography = read(path, size=size, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+    topography = read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
     return topography, characterise(topography, band=args.band, method=method, groups=args.groups)
 
 

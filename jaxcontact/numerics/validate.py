@@ -6,6 +6,8 @@ reports value-dependent failures per point through `Solution.status` instead.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 
 import jax
@@ -16,6 +18,33 @@ import numpy as np
 class InputError(ValueError):
     """A value given to jaxcontact that it does not accept. The message names the parameter, the
     value and what is allowed; the command line reports it in one line (exit status 2)."""
+
+
+# The command line's option for each argument name while a command runs (None from Python): errors
+# then say `--band SHORT LONG` where a Python caller reads `band=(short, long)`.
+_COMMAND_LINE_OPTIONS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("jaxcontact_cli", default=None)
+
+
+@contextlib.contextmanager
+def command_line_spelling(options: dict[str, str]):
+    """Within this context, messages name arguments as the command line's `options` ({name: "--opt"})."""
+    token = _COMMAND_LINE_OPTIONS.set(dict(options))
+    try:
+        yield
+    finally:
+        _COMMAND_LINE_OPTIONS.reset(token)
+
+
+def spelled(python: str, command_line: str) -> str:
+    """`python` (how a Python caller writes an argument), or `command_line` while a command runs."""
+    return python if _COMMAND_LINE_OPTIONS.get() is None else command_line
+
+
+def assigned(name: str, value: str, meaning: str = "") -> str:
+    """`name (meaning) = value` from Python; `--option value (meaning)` for a command's own option."""
+    options = _COMMAND_LINE_OPTIONS.get() or {}
+    what = f" ({meaning})" if meaning else ""
+    return f"{options[name]} {value}{what}" if name in options else f"{name}{what} = {value}"
 
 
 class JaxcontactWarning(UserWarning):
@@ -86,14 +115,13 @@ def check_range(
         left = "(" if low_open else "["
         right = ")" if high_open else "]"
         interval = f"{left}{low:g}, {high:g}{right}"
-        what = f" ({meaning})" if meaning else ""
-        raise InputError(f"{name}{what} = {_describe(values)} is outside its valid range {interval}")
+        raise InputError(f"{assigned(name, _describe(values), meaning)} is outside its valid range {interval}")
 
 
 def check_choice(name: str, value, choices: tuple[str, ...]) -> None:
     if value not in choices:
         allowed = ", ".join(repr(c) for c in choices)
-        raise InputError(f"{name} = {value!r} is not one of {allowed}")
+        raise InputError(f"{assigned(name, repr(value))} is not one of {allowed}")
 
 
 def check_instance(name: str, value, kind: type) -> None:

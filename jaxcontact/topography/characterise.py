@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy import special, stats
 
-from ..numerics.validate import InputError, check_choice
+from ..numerics.validate import InputError, assigned, check_choice, spelled
 from . import spectra
 from .conventions import convert_G, log_G_from_profile_prefactor, structure_function_constant
 
@@ -85,35 +85,6 @@ class Characterisation:
         )
 
 
-def _rows(topography):
-    """Line scans (along x) as rows, the spacing, the scan length, whether periodic, and the kind."""
-    heights = np.asarray(topography.heights(), dtype=float)
-    length = float(np.atleast_1d(topography.physical_sizes)[0])
-    if heights.ndim == 1:
-        return heights[None, :], length / heights.size, length, bool(topography.is_periodic), "profile"
-    return heights.T, length / heights.shape[0], length, bool(topography.is_periodic), "areal"
-
-
-def _groups(rows, groups: int | None, kind: str, method: str):
-    """Independent groups: square-ish tiles of an areal map (each a block of short line scans:
-    blocks of whole scans would share every wavelength longer than the block is tall; the
-    structure function's short lags allow blocks of whole scans), or segments of a profile."""
-    if kind == "areal" and method == "structure-function":
-        return np.array_split(rows, min(groups or 16, rows.shape[0]), axis=0)
-    if kind == "areal":
-        # 4 × 4 tiles, or 3 × 3 where tiles of a quarter of the map would be under 256 points wide.
-        default = 16 if min(rows.shape) >= 1024 else 9
-        per_side = max(int(round(math.sqrt(groups or default))), 1)
-        # Equal tiles (the remainder dropped), so that every tile has the same wavevectors.
-        tall, wide = rows.shape[0] // per_side, rows.shape[1] // per_side
-        return [
-            rows[i * tall : (i + 1) * tall, j * wide : (j + 1) * wide] for i in range(per_side) for j in range(per_side)
-        ]
-    count = groups or 8
-    usable = rows.shape[1] - rows.shape[1] % count
-    return list(rows[:, :usable].reshape(count, -1)[:, None, :])
-
-
 def characterise(topography, *, band=None, method: str = "psd", groups: int | None = None, D=None):
     """Fit the W-M power law to a topography's line-scan spectrum (or structure function).
 
@@ -132,13 +103,16 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     saying why no power law can be fitted (band outside the data, profile too short).
     """
     check_choice("method", method, METHODS)
-    rows, dx, length, periodic, kind = _rows(topography)
-    blocks = _groups(rows, groups, kind, method)
-    periodic = periodic and len(blocks) == 1
+    rows, dx, length, periodic, kind = spectra.rows_of(topography)
+    if not np.ptp(rows) > 0:
+        what = "map" if kind == "areal" else "profile"
+        raise InputError(f"the {what} is flat: every height is the same, so it has no roughness to characterise")
     if groups is not None and (isinstance(groups, bool) or not isinstance(groups, int) or groups < 3):
-        raise InputError(f"groups = {groups!r} must be an integer >= 3 (independent groups for an uncertainty)")
+        raise InputError(f"{assigned('groups', repr(groups))} must be an integer >= 3 (independent groups)")
+    blocks = spectra.groups_of(rows, groups, kind, method)
+    periodic = periodic and len(blocks) == 1
     if len(blocks) < 3:
-        raise InputError(f"groups = {len(blocks)}: at least 3 independent groups are needed for an uncertainty")
+        raise InputError(f"{assigned('groups', str(len(blocks)))}: at least 3 independent groups are needed")
     segment = blocks[0].shape[1] * dx
     cutoff = topography.short_reliability_cutoff()
     shortest = max(SHORTEST_IN_PIXELS * dx, cutoff or 0.0)
@@ -150,34 +124,35 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
             raise InputError(
                 f"the {'profile' if kind == 'profile' else 'map'} is too small for any power-law band: "
                 f"{rows.shape[1]} points over {length:.3g} m leave wavelengths {shortest:.3g}-{longest:.3g} m "
-                f"to fit (a factor 4 at least is needed; fewer groups= give longer segments)"
+                "to fit (a factor 4 at least is needed; "
+                f"{spelled('fewer groups', 'a smaller --groups')} give longer segments)"
             )
         band = (shortest, longest)
     band = tuple(float(b) for b in band)
     if len(band) != 2 or not (0 < band[0] < band[1]):
-        raise InputError(f"band = {band!r} m must be (shortest, longest) wavelengths with 0 < shortest < longest")
+        raise InputError(f"{_band(band)} must be (shortest, longest) wavelengths with 0 < shortest < longest")
     if band[0] < 2 * dx or band[1] > segment:
         raise InputError(
-            f"band = ({band[0]:.3g}, {band[1]:.3g}) m is outside the data: wavelengths must lie in "
+            f"{_band(band)} is outside the data: wavelengths must lie in "
             f"[{2 * dx:.3g}, {segment:.3g}] m (two grid spacings to one {'segment' if kind == 'profile' else 'scan'})"
         )
     if band[1] / band[0] < 4:
         raise InputError(
-            f"band = ({band[0]:.3g}, {band[1]:.3g}) m spans less than a factor 4 in wavelength: the "
+            f"{_band(band)} spans less than a factor 4 in wavelength: the "
             f"{kind} is too short for any power-law band ({rows.shape[1]} points over {length:.3g} m)"
         )
     if method == "psd":
-        x, per_group, weights = _binned_psd(blocks, dx, periodic, band)
+        x, per_group, weights = spectra.binned_psd(blocks, dx, periodic, band)
         exponent = lambda slope: (5 + slope) / 2  # noqa: E731  slope = -(5 - 2D)
         log_G = lambda D_, intercept: log_G_from_profile_prefactor(D_, intercept)  # noqa: E731
         slope_of = lambda D_: -(5 - 2 * D_)  # noqa: E731
     else:
-        x, per_group, weights = _binned_structure_function(blocks, dx, band)
+        x, per_group, weights = spectra.binned_structure_function(blocks, dx, band)
         exponent = lambda slope: (4 - slope) / 2  # noqa: E731  slope = 4 - 2D
         log_G = lambda D_, intercept: (intercept - math.log(structure_function_constant(D_))) / (2 * (D_ - 1))  # noqa: E731
         slope_of = lambda D_: 4 - 2 * D_  # noqa: E731
     if x.size < 4:
-        raise InputError(f"band = ({band[0]:.3g}, {band[1]:.3g}) m holds {x.size} spectral bins: too few to fit")
+        raise InputError(f"{_band(band)} holds {x.size} spectral bins: too few to fit")
     log_x, log_y = np.log(x), np.log(per_group)
     mean_y = np.log(per_group.mean(axis=0))
 
@@ -211,7 +186,8 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     if not 1 < D_fit < 2:
         raise InputError(
             f"no power-law band: the slope over ({band[0]:.3g}, {band[1]:.3g}) m gives D = {D_fit:.3g}, "
-            "outside (1, 2); the surface is not self-affine there (another band may be: band=(short, long), --band)"
+            "outside (1, 2); the surface is not self-affine there (another band may be: "
+            f"{spelled('band=(short, long)', '--band SHORT LONG')})"
         )
     estimates = np.array([to_D_logG(curve)[:2] for curve in log_y])
     n = len(estimates)
@@ -229,10 +205,14 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     if D is not None:
         covariance[0, :] = covariance[:, 0] = 0.0
         covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
+    diagnostics = _diagnostics(log_x, log_y, mean_y, slope_of(D_hat), estimates)
+    filled = float(topography.info.get("filled_fraction", 0.0))
+    if filled > 0:
+        covariance, note = _widened_for_filling(covariance, filled, held=D is not None)
+        diagnostics += (note,)
     t = stats.t.ppf(0.975, n - 1)
     se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
     G_hat = math.exp(log_G_hat)
-    diagnostics = _diagnostics(log_x, log_y, mean_y, slope_of(D_hat), estimates)
     fit_x = np.geomspace(x[0], x[-1], 50)
     return Characterisation(
         D=D_hat,
@@ -243,14 +223,14 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         method=method,
         stderr={"D": se_D, "G": G_hat * se_logG},
         ci95={
-            "D": (D_hat - t * se_D, D_hat + t * se_D),
+            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
             "G": (G_hat * math.exp(-t * se_logG), G_hat * math.exp(t * se_logG)),
         },
         covariance=covariance,
         correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
         groups=n,
         estimates=estimates,
-        spectrum=_full_spectrum(blocks, dx, periodic, method),
+        spectrum=spectra.full_spectrum(blocks, dx, periodic, method),
         fit=(fit_x, np.exp(intercept + slope_of(D_hat) * np.log(fit_x))),
         diagnostics=diagnostics,
         kind=kind,
@@ -258,33 +238,25 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     )
 
 
-def _binned_psd(blocks, dx, periodic, band):
-    binned = []
-    for block in blocks:
-        q, C = spectra.periodograms(block, dx, periodic)
-        centres, means, counts = spectra.log_bins(
-            q, C.mean(axis=0), 2 * math.pi / band[1], 2 * math.pi / band[0], counts=True
-        )
-        binned.append(means)
-    return centres, np.array(binned), counts
+def _band(band) -> str:
+    short, long = band[:2] if len(band) >= 2 else (band + (math.nan, math.nan))[:2]
+    return assigned("band", spelled(f"({short:.3g}, {long:.3g})", f"{short:.3g} {long:.3g}")) + " m"
 
 
-def _binned_structure_function(blocks, dx, band):
-    binned = []
-    for block in blocks:
-        tau, S = spectra.structure_functions(block, dx, int(band[1] / dx))
-        centres, means = spectra.log_bins(tau, S.mean(axis=0), band[0], band[1])
-        binned.append(means)
-    return centres, np.array(binned), np.ones(len(centres))
+def _widened_for_filling(covariance, filled: float, held: bool):
+    """The covariance of (D, ln G) with the bias that filling `filled` of the points can cause
+    (`read`'s `FILL_BIAS_PER_FRACTION`, D low and ln G along its regression on D) added as a
+    systematic term; and the diagnostic that says so."""
+    from .read import FILL_BIAS_PER_FRACTION
 
-
-def _full_spectrum(blocks, dx, periodic, method):
-    if method == "psd":
-        spectra_ = [spectra.periodograms(block, dx, periodic) for block in blocks]
-        return spectra_[0][0], np.mean([C.mean(axis=0) for _, C in spectra_], axis=0)
-    lag = blocks[0].shape[1] // 2
-    curves = [spectra.structure_functions(block, dx, lag) for block in blocks]
-    return curves[0][0], np.mean([S.mean(axis=0) for _, S in curves], axis=0)
+    bias = FILL_BIAS_PER_FRACTION * filled
+    if held:
+        return covariance, f"{100 * filled:.2g} % of the points were filled by interpolation: G may be low"
+    direction = np.array([1.0, covariance[0, 1] / covariance[0, 0]])
+    return covariance + bias**2 * np.outer(direction, direction), (
+        f"{100 * filled:.2g} % of the points were filled by interpolation, which can bias D low by up to "
+        f"{bias:.2g} (and G with it): the intervals include that"
+    )
 
 
 def _diagnostics(log_x, log_y, mean_y, slope, estimates) -> tuple[str, ...]:

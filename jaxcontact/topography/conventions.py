@@ -18,7 +18,7 @@ import math
 import numpy as np
 from scipy import special
 
-from ..numerics.validate import InputError, check_range
+from ..numerics.validate import InputError, assigned, check_range, spelled
 
 GAMMA = 1.5
 CONVENTIONS = ("wm", "structure-function")
@@ -33,7 +33,8 @@ def check_D(D):
 def check_positive(name, value, unit="m"):
     """Raise `InputError` naming `name` unless `value` (if given) is finite and > 0."""
     if value is not None and not (np.all(np.isfinite(value)) and np.all(np.asarray(value) > 0)):
-        raise InputError(f"{name} = {value!r} {unit} must be finite and > 0 (valid range (0, inf) {unit})")
+        shown = spelled(repr(value), " ".join(f"{float(v):g}" for v in np.atleast_1d(value)))
+        raise InputError(f"{assigned(name, shown)} {unit} must be finite and > 0 (valid range (0, inf) {unit})")
 
 
 def convert_G(G, D, source: str = "wm", target: str = "structure-function"):
