@@ -106,10 +106,7 @@ def test_a_flat_map_says_so(tmp_path, capsys):
     err = one_line_error(
         capsys, ["surface", str(tmp_path / "flat.txt"), "--size", "1e-3", "1e-3", "--out", str(tmp_path)]
     )
-    assert (
-        err
-        == "jaxcontact surface: error: the map is flat: every height is the same, so it has no roughness to characterise"
-    )
+    assert err.endswith("error: the map is flat: every height is the same, so it has no roughness to characterise")
 
 
 def test_a_damaged_file_is_one_line_naming_its_format(tmp_path, capsys):
