@@ -44,7 +44,10 @@ class FitResult:
 
     **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name; stderr of a log-coordinate
     parameter is the delta-method value · se(ln value), its interval is exp(ln value ± t·se));
-    `correlation` and `covariance` (in statistical coordinates, ordered as `params`);
+    `correlation` and `covariance` (in statistical coordinates, ordered as `params`); stderr and
+    ci95 are NaN where the model does not describe the data (`describes_data` False: the misfit is
+    far beyond the data's own scatter, and a warning says so), and a linear parameter's interval
+    never leaves its domain (D's stays in (1, 2));
     `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points); `flagged`
     (indices of data points outside the model at the optimum); `success`; `iterations` (of the
     best start); `wall_time` (s, compilation included); `warnings`; `condition_number` (of the
@@ -68,6 +71,7 @@ class FitResult:
     start_losses: np.ndarray
     method: str
     scene: jc.Scene = dataclasses.field(repr=False)
+    describes_data: bool = True
 
     def summary(self) -> str:
         lines = [
@@ -76,9 +80,12 @@ class FitResult:
         ]
         for name in self.params:
             lo, hi = self.ci95[name]
-            lines.append(
-                f"  {name:6s} = {self.values[name]:.6g} ± {self.stderr[name]:.3g}   95% CI [{lo:.6g}, {hi:.6g}]"
+            spread = (
+                f"± {self.stderr[name]:.3g}   95% CI [{lo:.6g}, {hi:.6g}]"
+                if self.describes_data
+                else "  95% CI not reported: the model does not describe the data"
             )
+            lines.append(f"  {name:6s} = {self.values[name]:.6g} {spread}")
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -98,6 +105,7 @@ class FitResult:
             "condition_number": self.condition_number,
             "loss": self.loss,
             "method": self.method,
+            "describes_data": self.describes_data,
         }
 
 
@@ -238,6 +246,7 @@ def fit(
         start_losses=losses,
         method=method,
         scene=with_stat(scene, fitted, np.asarray(stat_hat)),
+        describes_data=result["describes_data"],
     )
 
 

@@ -128,7 +128,9 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         s, se = float(stat_hat[i]), math.sqrt(covariance[i, i]) if np.isfinite(covariance[i, i]) else math.nan
         values[q.name] = float(q.from_stat(s))
         stderr[q.name] = values[q.name] * se if q.log else se
-        ci95[q.name] = (float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se)))
+        lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
+        # A linear coordinate's interval stays inside the parameter's domain (D in (1, 2)).
+        ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
         if abs(u_hat[i]) > 12:
             warnings.append(f"{q.name} = {values[q.name]:.4g} is at the edge of its bounds [{q.low:g}, {q.high:g}]")
     for i in range(p):
@@ -143,6 +145,9 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
     misfit = misfit_warning(np.log(loads[ok]), np.asarray(log_stiffness)[: loads.size][ok], r_used)
     if misfit:
         warnings.append(misfit)
+        # Intervals of a model that does not describe the data would look meaningful and are not.
+        stderr = dict.fromkeys(stderr, math.nan)
+        ci95 = dict.fromkeys(ci95, (math.nan, math.nan))
     residuals = np.where(ok, r, np.nan)
     return dict(
         values=values,
@@ -155,6 +160,7 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         flagged=flagged,
         residuals=residuals,
         n_used=n,
+        describes_data=not misfit,
     )
 
 

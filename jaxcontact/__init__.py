@@ -23,7 +23,7 @@ from .models.jzz2010 import JZZ2010
 from .models.persson import Persson
 from .models.xia2024 import Xia2024
 from .numerics.quadrature import AbstractQuadrature, Adaptive, GaussLegendre, PowerSeries
-from .numerics.validate import InputError
+from .numerics.validate import InputError, JaxcontactWarning, MissingExtraError, PlausibilityWarning
 from .physics.distribution import AbstractDistribution, MajumdarBhushan, WangKomvopoulos, wang_komvopoulos_psi
 from .physics.interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction
 from .physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon
@@ -43,6 +43,9 @@ __all__ = [
     "Scene",
     "Solution",
     "InputError",
+    "MissingExtraError",
+    "JaxcontactWarning",
+    "PlausibilityWarning",
     "Status",
     "status_message",
     "Scales",

@@ -385,6 +385,7 @@ def test_the_fit_figure_shows_the_values_their_intervals_and_the_residuals():
         ci95={"D": (1.40208, 1.40742), "G": (1.66e-10, 2.35e-10)},
         residuals=np.array([0.01, -0.02, np.nan, 0.03, -0.01]),
         method="lm",
+        describes_data=True,
     )
     fig = fit_figure(result, loads, 1e8 * loads, loads, 1e8 * loads)
     top, bottom = fig.axes

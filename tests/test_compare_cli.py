@@ -56,7 +56,8 @@ def test_an_edited_cache_entry_is_recomputed_and_reported_once(default_run, caps
 def test_a_grid_too_coarse_is_one_line(capsys, tmp_path):
     assert main(["compare", "--grid", "128", "--out", str(tmp_path), "--no-progress"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == [err[0]] and "grid = 128 is too coarse for l_min" in err[0]
+    assert err == [err[0]] and "--grid 128 is too coarse for l_min" in err[0]
+    assert "(--grid 256 or more, or l_min >=" in err[0]
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +70,7 @@ def measured_map(tmp_path_factory):
 def test_a_non_periodic_measured_map_needs_a_substrate(measured_map, capsys, tmp_path):
     argv = ["compare", "--topography", str(measured_map), "--size", "1e-4", "1e-4", "--out", str(tmp_path)]
     assert main([*argv, "--no-progress"]) == 2
-    assert "substrate = 'free'" in capsys.readouterr().err
+    assert "not periodic: choose --substrate free (an isolated" in capsys.readouterr().err
 
 
 def test_compare_on_a_measured_map(measured_map, capsys, tmp_path):

@@ -213,6 +213,25 @@ def test_dimensionless_columns(table1):
     np.testing.assert_allclose(curve.stiffness[0], 1.04576 * 220e9 * 1e-2)
 
 
+def test_cli_fit_exits_1_when_the_model_does_not_describe_the_data(tmp_path, capsys):
+    """Exit codes (docs/cli.md): 1 is a fit that ran and wrote its files but is not usable."""
+    from jaxcontact.cli import main
+
+    data = tmp_path / "kN.csv"
+    curve = np.loadtxt(ROOT / "data" / "table1_grinding_generated.csv", delimiter=",", skiprows=6)
+    np.savetxt(
+        data,
+        np.column_stack([curve[:, 0] / 1000.0, curve[:, 1]]),
+        delimiter=",",
+        header="load_N,stiffness_N_per_m",
+        comments="",
+    )
+    assert main(["fit", str(data), "--out", str(tmp_path), "--no-progress"]) == 1
+    out = capsys.readouterr().out
+    assert "95% CI not reported: the model does not describe the data" in out
+    assert (tmp_path / "fit.png").is_file()
+
+
 def test_cli_fit(tmp_path, capsys):
     from jaxcontact.cli import main
 
@@ -231,13 +250,36 @@ def test_identical_points_are_refused(table1):
         fitting.fit([5.0, 5.0, 5.0], [1e8, 1e8, 1e8], table1)
 
 
-def test_loads_in_the_wrong_unit_are_called_a_misfit(table1):
-    """The generated curve with its loads in kN but read as N: the fit converges somewhere, and
-    says that its misfit is far beyond the data's own scatter."""
+@pytest.fixture(scope="module")
+def wrong_unit_fit(table1):
+    """The generated curve with its loads in kN but read as N."""
     curve = fitting.load_curve(ROOT / "data" / "table1_grinding_generated.csv", table1)
-    result = fitting.fit(curve.loads / 1000.0, curve.stiffness, make_scene(**START))
-    misfits = [w for w in result.warnings if "the model does not describe these data" in w]
-    assert len(misfits) == 1, result.warnings
+    return fitting.fit(curve.loads / 1000.0, curve.stiffness, make_scene(**START))
+
+
+def test_loads_in_the_wrong_unit_are_called_a_misfit(wrong_unit_fit):
+    """The fit converges somewhere, and says that its misfit is far beyond the data's own scatter."""
+    misfits = [w for w in wrong_unit_fit.warnings if "the model does not describe these data" in w]
+    assert len(misfits) == 1, wrong_unit_fit.warnings
+
+
+def test_a_misfit_reports_no_intervals(wrong_unit_fit):
+    """Issue 35.11: intervals of a model that does not describe the data are not reported."""
+    assert not wrong_unit_fit.describes_data
+    assert all(np.isnan(wrong_unit_fit.ci95[name]).all() for name in wrong_unit_fit.params)
+
+
+def test_a_misfit_says_why_its_intervals_are_missing(wrong_unit_fit):
+    lines = wrong_unit_fit.summary().splitlines()[1:3]
+    assert all(line.endswith("95% CI not reported: the model does not describe the data") for line in lines), lines
+
+
+def test_a_wide_interval_of_D_stays_in_its_domain(table1):
+    """Three points over a decade with 20 % noise: D's interval would reach past (1, 2) unclipped."""
+    loads, K = synthetic_curve(table1, TABLE1_F_STAR[[0, 20, 39]], noise=0.2, seed=3)
+    result = fitting.fit(loads, K, make_scene(**START), n_starts=4)
+    lo, hi = result.ci95["D"]
+    assert 1.0 <= lo < hi <= 2.0, result.summary()
 
 
 @pytest.mark.parametrize("starts", [0, -3])

@@ -91,3 +91,23 @@ def test_a_byte_order_mark_is_accepted(tmp_path):
 def test_a_directory_is_not_called_missing(tmp_path):
     with pytest.raises(SceneFileError, match="is a directory"):
         load_scene(tmp_path)
+
+
+@pytest.mark.parametrize(
+    "model, expected",
+    [
+        ({"spot_stiffness": "sneddon"}, jc.Xia2024(spot_stiffness=jc.Sneddon())),
+        ({"interaction": "series"}, jc.Xia2024(interaction=jc.SeriesInteraction())),
+        ({"distribution": "wk"}, jc.Xia2024(distribution=jc.WangKomvopoulos())),
+        ({"quadrature": "gauss-legendre", "quadrature_nodes": 24}, jc.Xia2024(quadrature=jc.GaussLegendre(nodes=24))),
+    ],
+)
+def test_every_model_option_is_accepted_in_the_model_table(model, expected):
+    """Issue 35.9: what `Scene` takes by name, a scene file takes in [model]."""
+    assert parse_scene({**GOOD, "model": {"name": "xia2024", **model}}).scene.model == expected
+
+
+def test_an_option_given_in_model_and_effects_is_refused():
+    data = {**GOOD, "model": {"spot_stiffness": "sneddon"}, "effects": {"spot_stiffness": "paper"}}
+    with pytest.raises(SceneFileError, match=r"spot_stiffness is given in both \[model\] and \[effects\]"):
+        parse_scene(data)

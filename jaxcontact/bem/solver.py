@@ -19,7 +19,7 @@ import equinox as eqx
 import numpy as np
 
 from ..core.status import Status
-from ..numerics.validate import InputError, check_choice, check_range
+from ..numerics.validate import InputError, check_choice, check_range, optional_import, spelled
 from .cache import ResultCache
 
 SUBSTRATES = ("periodic", "free")
@@ -69,22 +69,25 @@ class BEMResult:
 
 
 def _substrate(topography, modulus: float, substrate: str | None):
-    from ContactMechanics import FreeFFTElasticHalfSpace, PeriodicFFTElasticHalfSpace
+    cm = optional_import("ContactMechanics", "the boundary-element reference")
 
     if substrate is None:
         if not topography.is_periodic:
+            free = spelled("substrate = 'free'", "--substrate free")
+            periodic = spelled("substrate = 'periodic'", "--substrate periodic")
             raise InputError(
-                "the topography is not periodic: choose substrate = 'free' (an isolated half-space; "
-                "the grid is doubled) or substrate = 'periodic' (the map repeated; its edges then meet "
-                "as a step)"
+                f"the topography is not periodic: choose {free} (an isolated half-space; the grid is doubled) "
+                f"or {periodic} (the map repeated; its edges then meet as a step)"
             )
         substrate = "periodic"
     check_choice("substrate", substrate, SUBSTRATES)
     if substrate == "periodic":
-        return PeriodicFFTElasticHalfSpace(
+        return cm.PeriodicFFTElasticHalfSpace(
             topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes, stiffness_q0=0.0
         ), substrate
-    return FreeFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes), substrate
+    return cm.FreeFFTElasticHalfSpace(
+        topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes
+    ), substrate
 
 
 def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
@@ -148,7 +151,7 @@ def bem_stiffness(
     **Returns:** a `BEMResult`. A solve that reaches the iteration cap gives `NOT_CONVERGED`; a
     load that closes the interface (contact fraction ≥ 0.99) gives `LOAD_OUT_OF_RANGE`.
     """
-    from ContactMechanics import make_system
+    make_system = optional_import("ContactMechanics", "the boundary-element reference").make_system
 
     check_range("modulus", modulus, 0.0)
     loads = np.atleast_1d(np.asarray(loads, dtype=float))

@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..numerics.validate import InputError
+from ..numerics.validate import InputError, assigned
 from .cache import ResultCache
 from .solver import BEMResult, BEMSettings, bem_stiffness
 from .surfaces import check_grid, coarsened, synthesised_surface
@@ -77,7 +77,9 @@ def realisation(D, G, l_min, size, grid, seed):
     """Realisation `seed` of the surface, synthesised on `max(grid, SYNTHESIS_GRID)` points per side
     and coarsened to `grid` (the same surface on every grid that resolves `l_min`)."""
     if not _power_of_two(grid):
-        raise InputError(f"grid = {grid} must be a power of two >= 8 (the surfaces are coarsened by halving)")
+        raise InputError(
+            f"{assigned('grid', str(grid))} must be a power of two >= 8 (surfaces are coarsened by halving)"
+        )
     check_grid(l_min, size, grid)
     fine = max(grid, SYNTHESIS_GRID)
     surface = synthesised_surface(D, G, l_min, size, fine, seed)
@@ -104,7 +106,7 @@ def reference_curves(
     on `grid/2`), `settings`, `cache`, `progress` (called as `progress(done, total)` over all loads).
     """
     if isinstance(realisations, bool) or not isinstance(realisations, int) or not 1 <= realisations <= 64:
-        raise InputError(f"realisations = {realisations!r} must be an integer in [1, 64]")
+        raise InputError(f"{assigned('realisations', repr(realisations))} must be an integer in [1, 64]")
     D, G, l_min = (float(x) for x in (scene.surface.D, scene.surface.G, scene.surface.l_min))
     size, modulus = math.sqrt(float(scene.area)), float(scene.material.E)
     loads = np.atleast_1d(np.asarray(loads, dtype=float))

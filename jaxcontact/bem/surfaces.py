@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..numerics.validate import InputError, check_range
+from ..numerics.validate import InputError, assigned, check_range, optional_import, spelled
 
 # The shortest wavelength l_min must span this many grid spacings: then the surface is also
 # exact on the half grid (2 points per l_min, its Nyquist limit), which the convergence check uses.
@@ -18,8 +18,9 @@ def check_grid(l_min: float, size: float, grid: int) -> None:
     if not l_min >= PIXELS_PER_L_MIN * spacing * (1 - 1e-12):
         needed = int(np.ceil(PIXELS_PER_L_MIN * size / l_min))
         raise InputError(
-            f"grid = {grid} is too coarse for l_min = {l_min:.4g} m on a {size:.4g} m surface: l_min spans "
-            f"{l_min / spacing:.3g} grid spacings and needs at least {PIXELS_PER_L_MIN} (grid >= {needed}, or "
+            f"{assigned('grid', str(grid))} is too coarse for l_min = {l_min:.4g} m on a {size:.4g} m surface: "
+            f"l_min spans {l_min / spacing:.3g} grid spacings and needs at least {PIXELS_PER_L_MIN} "
+            f"({spelled('grid >= ', '--grid ')}{needed}{spelled('', ' or more')}, or "
             f"l_min >= {PIXELS_PER_L_MIN * spacing:.4g} m)"
         )
 
@@ -46,7 +47,7 @@ def coarsened(topography, factor: int = 2):
     For a synthesised surface whose spectrum ends at `l_min` (≥ `factor` · 2 grid spacings) this is
     the same surface exactly; for a measured one it drops the wavelengths the coarse grid cannot hold.
     """
-    from SurfaceTopography import Topography
+    Topography = optional_import("SurfaceTopography", "the boundary-element reference").Topography
 
     nx, ny = topography.nb_grid_pts
     if nx % factor or ny % factor:

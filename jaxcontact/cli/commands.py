@@ -6,21 +6,21 @@ from __future__ import annotations
 
 import pathlib
 
+# Exit status of a command that ran and wrote its output, but whose result is not usable (a fit
+# that did not converge, or whose model does not describe the data); 2 is a mistake in the input.
+EXIT_NOT_USABLE = 1
+
 
 class CommandError(Exception):
     """A user mistake to report in one line."""
 
 
-def warn_implausible(spec, command: str) -> list[str]:
-    """Print (to stderr) and return the scene's implausible values: likely unit mistakes."""
-    import sys
-
+def implausible_values(spec) -> list[str]:
+    """The scene's implausible values (likely unit mistakes), for the JSON output; building the
+    scene has already warned of them (`PlausibilityWarning`, shown on stderr by `main`)."""
     from ..core.domain import implausible
 
-    warnings = implausible(spec.scene)
-    for w in warnings:
-        print(f"jaxcontact {command}: warning: {w}", file=sys.stderr)
-    return warnings
+    return implausible(spec.scene)
 
 
 def progress_bar(enabled: bool, desc: str, unit: str):
@@ -51,7 +51,7 @@ def cmd_run(args) -> int:
         from .surface_commands import topography_scene
 
         spec, band = topography_scene(spec, args)
-    warnings = warn_implausible(spec, "run")
+    warnings = implausible_values(spec)
     solution = solve_sweep(spec.scene, spec.loads, progress=args.progress and spec.loads.size > 4096)
     rows = solution_rows(solution)
     if band is not None:
@@ -244,7 +244,6 @@ def cmd_fit(args) -> int:
     if not 1 <= args.starts <= 1024:
         raise CommandError(f"--starts {args.starts} must be an integer in [1, 1024]")
     spec = load_scene(args.scene)
-    warn_implausible(spec, "fit")
     curve = fitting.load_curve(args.data, spec.scene)
     t = time.perf_counter()
     if args.progress:
@@ -271,4 +270,5 @@ def cmd_fit(args) -> int:
     )
     record = {"data": curve.source, "scene": scene_record(spec), **result.to_dict(), "files": files}
     print_result(record, args.format, text)
-    return 0 if result.success else 1
+    # 1: the fit ran and wrote its files, but its result is not usable (docs/cli.md, exit codes).
+    return 0 if result.success and result.describes_data else EXIT_NOT_USABLE

@@ -119,8 +119,11 @@ def plot_comparison(comparison, title, path) -> str:
 
 
 def cmd_compare(args) -> int:
+    from ..numerics.validate import optional_import
     from ..studies.compare import COMPARED, compare_scene, validation_rows
     from .report import write_csv
+
+    optional_import("ContactMechanics", "the boundary-element reference of jaxcontact compare")  # before any work
 
     out = pathlib.Path(args.out)
     if args.topography:

@@ -18,7 +18,7 @@ import traceback
 
 from ..core.exported import exported_programs
 from ..numerics.compat import avoid_host_callbacks_in_checks
-from ..numerics.validate import InputError, command_line_spelling
+from ..numerics.validate import InputError, MissingExtraError, command_line_spelling
 from .commands import CommandError, cmd_approach, cmd_dynamics, cmd_fit, cmd_run
 from .compare_commands import DEFAULT_COMPARE_SCENE, add_compare_options, cmd_compare
 from .study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
@@ -101,11 +101,15 @@ def _version() -> str:
 
 class Parser(argparse.ArgumentParser):
     """argparse, with "-1e-3" read as a number (argparse's own pattern misses exponents), so that a
-    negative value reaches its option and is refused there by name."""
+    negative value reaches its option and is refused there by name; errors in one line."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+    def error(self, message):
+        """One line, as every other mistake in the input (`--help` shows the usage)."""
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
 
 
 def _options_by_name(parser) -> dict[str, str]:
@@ -272,11 +276,12 @@ def main(argv=None) -> int:
     except (
         InputError,
         CommandError,
+        MissingExtraError,
         FileNotFoundError,
         IsADirectoryError,
         NotADirectoryError,
         PermissionError,
-    ) as exc:  # the user's to fix: SceneFileError and DataError are InputErrors
+    ) as exc:  # the user's to fix (a missing extra too): SceneFileError and DataError are InputErrors
         print(f"jaxcontact {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except Exception:  # anything else is a bug, not a mistake in the input: say so, with the traceback

@@ -167,12 +167,17 @@ def fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness) -> Figure
     fig = figure((6.4, 6.0), rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.4))
     top.loglog(loads, stiffness, "o", ms=4, label="data")
-    values = [
-        f"{name} = {result.values[name]:.4g} [{result.ci95[name][0]:.4g}, {result.ci95[name][1]:.4g}]"
-        + PARAMETERS[name].unit_suffix
-        for name in result.params
-    ]
-    top.loglog(fine_loads, fitted_stiffness, "-", label="fit (95 % CI): " + "; ".join(values))
+    if result.describes_data:
+        values = [
+            f"{name} = {result.values[name]:.4g} [{result.ci95[name][0]:.4g}, {result.ci95[name][1]:.4g}]"
+            + PARAMETERS[name].unit_suffix
+            for name in result.params
+        ]
+        label = "fit (95 % CI): " + "; ".join(values)
+    else:
+        values = [f"{name} = {result.values[name]:.4g}{PARAMETERS[name].unit_suffix}" for name in result.params]
+        label = "fit (no CI: the model does not describe the data): " + "; ".join(values)
+    top.loglog(fine_loads, fitted_stiffness, "-", label=label)
     top.set(ylabel="stiffness K (N/m)", title=f"Fit of the stiffness curve ({result.method})")
     top.grid(True, which="both", alpha=0.3)
     top.legend(fontsize=7)

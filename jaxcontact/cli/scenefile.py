@@ -5,9 +5,11 @@ title = "..."
 [surface]   D, G, l_min
 [material]  E, nu, H
 [joint]     area
-[model]     name ("xia2024" | "jzz2010" | "gw" | "persson"), quadrature_nodes, max_steps
-[effects]   interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"),
-            spot_stiffness ("paper" | "sneddon"), regime_shares (bool)
+[model]     name ("xia2024" | "jzz2010" | "gw" | "persson"), and every option `Scene` takes:
+            interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"),
+            spot_stiffness ("paper" | "sneddon"), quadrature ("power-series" | "gauss-legendre" |
+            "adaptive"), quadrature_nodes, quadrature_tolerance, max_steps, solver_tolerance
+[effects]   interaction, distribution, spot_stiffness (here or in [model]), regime_shares (bool)
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
 [approach]  reference_load (N): ask for the load–approach curve relative to this preload
 [dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
@@ -43,7 +45,17 @@ _SCHEMA = {
     "surface": {"D": float, "G": float, "l_min": float},
     "material": {"E": float, "nu": float, "H": float},
     "joint": {"area": float},
-    "model": {"name": str, "quadrature_nodes": int, "max_steps": int},
+    "model": {
+        "name": str,
+        "interaction": str,
+        "distribution": str,
+        "spot_stiffness": str,
+        "quadrature": str,
+        "quadrature_nodes": int,
+        "quadrature_tolerance": float,
+        "max_steps": int,
+        "solver_tolerance": float,
+    },
     "effects": {"interaction": str, "distribution": str, "spot_stiffness": str, "regime_shares": bool},
     "loads": {"unit": str, "values": list, "range": list, "count": int},
     "approach": {"reference_load": float},
@@ -161,22 +173,20 @@ def _loads(spec: dict, load_unit: float) -> np.ndarray:
 def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     """Build a `SceneFile` from the parsed TOML dictionary."""
     _check_types(data)
-    model = data.get("model", {})
+    model = dict(data.get("model", {}))
     effects = data.get("effects", {})
-    name = model.get("name", "xia2024")
+    name = model.pop("name", "xia2024")
+    for key in set(model) & set(effects):
+        raise SceneFileError(f"{key} is given in both [model] and [effects]: give it once")
+    options = {**model, **{k: v for k, v in effects.items() if k != "regime_shares"}}
     try:
         surface = Surface(**data["surface"])
         material = Material(**data["material"])
-        options = {k: model[k] for k in ("quadrature_nodes", "max_steps") if k in model}
-        interaction = effects.get("interaction", None)
         scene = Scene(
             surface,
             material,
             data["joint"]["area"],
             model=name,
-            interaction=interaction,
-            distribution=effects.get("distribution"),
-            spot_stiffness=effects.get("spot_stiffness"),
             regime_shares=effects.get("regime_shares", True),
             **options,
         )

@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import jax.numpy as jnp
 
-from ..numerics.validate import check_range
+from ..numerics.validate import check_range, concrete
 
 
 @dataclasses.dataclass(frozen=True)
@@ -143,8 +143,8 @@ def implausible(scene) -> list[str]:
     unit mistake, most likely. The model runs with them as they are; this only says so."""
     out = []
     for name, spec in PARAMETERS.items():
-        value = spec.get(scene)
-        if spec.typical is None or jnp.ndim(value) != 0:
+        value = concrete(spec.get(scene))
+        if spec.typical is None or value is None or value.ndim != 0:
             continue
         low, high = spec.typical
         if not low <= float(value) <= high:

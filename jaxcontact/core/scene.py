@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
+
 import equinox as eqx
 
 from ..models.base import AbstractContactModel
-from ..numerics.validate import InputError, as_array, concrete
+from ..numerics.validate import InputError, PlausibilityWarning, as_array, concrete
 from ..registry import build_model
-from .domain import PARAMETERS
+from .domain import PARAMETERS, implausible
 from .parameters import Material, Parameter, Surface
 
 
@@ -109,6 +111,9 @@ class Scene(eqx.Module):
 
     def __check_init__(self):
         PARAMETERS["area"].check(self.area)
+        for message in implausible(self):
+            # A unit mistake (E in GPa) gives NaN with a status, not an error: say so where it is made.
+            warnings.warn(message, PlausibilityWarning, stacklevel=3)
         l_min, area = concrete(self.surface.l_min), concrete(self.area)
         if l_min is not None and area is not None and not (l_min**2 < area).all():
             raise InputError(

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import importlib
 import math
 
 import jax
@@ -45,6 +46,30 @@ def assigned(name: str, value: str, meaning: str = "") -> str:
     options = _COMMAND_LINE_OPTIONS.get() or {}
     what = f" ({meaning})" if meaning else ""
     return f"{options[name]} {value}{what}" if name in options else f"{name}{what} = {value}"
+
+
+# The optional packages, and the extra of jaxcontact that installs each (`pyproject.toml`).
+EXTRAS = {"SurfaceTopography": "surface", "ContactMechanics": "bem", "mpmath": "studies"}
+
+
+class MissingExtraError(ImportError):
+    """An optional package is not installed; the message names the extra that installs it."""
+
+
+def optional_import(module: str, purpose: str):
+    """`module` (of one of the packages of `EXTRAS`), or a `MissingExtraError` naming its extra."""
+    package = module.split(".")[0]
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").split(".")[0] != package:
+            raise
+        extra = EXTRAS[package]
+        raise MissingExtraError(
+            f"{purpose} needs {package}, which jaxcontact's {extra!r} extra installs: "
+            f"pip install 'jaxcontact[{extra}]'",
+            name=package,
+        ) from None
 
 
 class JaxcontactWarning(UserWarning):

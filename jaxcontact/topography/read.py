@@ -11,7 +11,7 @@ import warnings
 
 import numpy as np
 
-from ..numerics.validate import InputError, PlausibilityWarning, assigned, spelled
+from ..numerics.validate import InputError, PlausibilityWarning, assigned, optional_import, spelled
 from .conventions import check_positive
 
 # Height and length units a file without its own may be given in.
@@ -51,8 +51,8 @@ def _first_line(exc: Exception) -> str:
 
 def _open(path: pathlib.Path):
     """The reader of `path`: by content, checked against the format its extension names."""
-    import SurfaceTopography
-    from SurfaceTopography.IO import readers
+    SurfaceTopography = optional_import("SurfaceTopography", "reading a topography file")
+    readers = optional_import("SurfaceTopography.IO", "reading a topography file").readers
 
     suffix = path.suffix.lower().lstrip(".")
     named = [r for r in readers if suffix in (r.file_extensions() or ())]
@@ -83,13 +83,12 @@ def _open(path: pathlib.Path):
 
 def _rebuilt(topography, sizes, filled: float):
     """The same heights (m) with the physical sizes `sizes` (m), and the fraction of them `filled`."""
-    from SurfaceTopography import Topography, UniformLineScan
-
+    st = optional_import("SurfaceTopography", "reading a topography file")
     heights, periodic = topography.heights(), topography.is_periodic
     info = {**topography.info, "filled_fraction": filled}
     if topography.dim == 1:
-        return UniformLineScan(heights, sizes[0], periodic=periodic, unit="m", info=info)
-    return Topography(heights, tuple(sizes), periodic=periodic, unit="m", info=info)
+        return st.UniformLineScan(heights, sizes[0], periodic=periodic, unit="m", info=info)
+    return st.Topography(heights, tuple(sizes), periodic=periodic, unit="m", info=info)
 
 
 def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = False):
@@ -146,9 +145,8 @@ def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = 
                 f"topography file {str(path)!r} does not say its physical size: give "
                 + spelled("size (m)", "--size L for a line scan or --size LX LY for a map, in m")
             )
-        from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
-
-        in_unit = get_unit_conversion_factor("m", kwargs.get("unit") or channel.unit)
+        units = optional_import("SurfaceTopography.Support.UnitConversion", "reading a topography file")
+        in_unit = units.get_unit_conversion_factor("m", kwargs.get("unit") or channel.unit)
         kwargs["physical_sizes"] = tuple(s * in_unit for s in sizes)
     if tip_radius is not None:
         info = dict(channel.info)

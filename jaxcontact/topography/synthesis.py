@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ..numerics.validate import optional_import
 from .conventions import GAMMA, areal_prefactor, check_D, check_positive, profile_prefactor
 
 
@@ -18,7 +19,7 @@ def wm_profile(D, G, length, points, *, l_min=None, seed=0):
     **Arguments:** `D` (1 < D < 2), `G` (m, W-M convention), `length` (m), `points`, `l_min` (m),
     `seed`. **Returns:** a periodic-free `SurfaceTopography.UniformLineScan` in metres.
     """
-    from SurfaceTopography import UniformLineScan
+    UniformLineScan = optional_import("SurfaceTopography", "synthesising a profile").UniformLineScan
 
     D = float(check_D(D))
     for name, value in (("G", G), ("length", length)):
@@ -38,7 +39,7 @@ def wm_profile(D, G, length, points, *, l_min=None, seed=0):
 
 def _fourier(D, G, size_name, size, grid, l_min, seed, prefactor):
     """SurfaceTopography's Fourier synthesis of a self-affine surface, `grid` points per side."""
-    from SurfaceTopography.Generation import fourier_synthesis
+    fourier_synthesis = optional_import("SurfaceTopography.Generation", "synthesising a surface").fourier_synthesis
 
     D = float(check_D(D))
     for name, value in (("G", G), (size_name, size)):

@@ -1,0 +1,88 @@
+"""What a user is told: missing extras, implausible units, and every exit code of the command line."""
+
+import sys
+
+import numpy as np
+import pytest
+from conftest import TABLE1, make_scene
+
+import jaxcontact as jc
+from jaxcontact import topography as tp
+from jaxcontact.cli import main
+
+
+@pytest.fixture
+def a_map(tmp_path):
+    path = tmp_path / "map.txt"
+    np.savetxt(path, np.random.default_rng(0).normal(size=(16, 16)) * 1e-7)
+    return path
+
+
+@pytest.mark.parametrize(
+    "package, argv, extra",
+    [
+        ("SurfaceTopography", ["surface", "{map}", "--size", "1e-3", "1e-3"], "surface"),
+        ("SurfaceTopography", ["run", "--topography", "{map}", "--size", "1e-3", "1e-3"], "surface"),
+        ("ContactMechanics", ["compare", "--realisations", "1", "--no-cache"], "bem"),
+    ],
+)
+def test_a_missing_extra_is_one_line_naming_it(monkeypatch, capsys, tmp_path, a_map, package, argv, extra):
+    """Issue 35.10: not "internal error": which extra to install, exit 2."""
+    monkeypatch.setitem(sys.modules, package, None)
+    code = main([a.format(map=a_map) for a in argv] + ["--out", str(tmp_path / "o"), "--no-progress"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert len(err) == 1 and err[0].endswith(
+        f"which jaxcontact's {extra!r} extra installs: pip install 'jaxcontact[{extra}]'"
+    )
+
+
+def test_a_missing_extra_in_python_is_an_import_error_naming_it(monkeypatch, a_map):
+    monkeypatch.setitem(sys.modules, "SurfaceTopography", None)
+    with pytest.raises(ImportError, match=r"pip install 'jaxcontact\[surface\]'"):
+        tp.read(a_map, size=(1e-3, 1e-3))
+
+
+def test_a_modulus_in_gpa_is_warned_about_in_python():
+    """Issue 35.11: the library warns as the command line does; the point is flagged, not an error."""
+    with pytest.warns(jc.PlausibilityWarning, match=r"E = 220 Pa is far outside .* given in GPa or MPa instead of Pa"):
+        make_scene(**dict(TABLE1, E=220.0))
+
+
+def test_a_plausible_scene_is_not_warned_about(recwarn):
+    make_scene(**TABLE1)
+    assert not [w for w in recwarn if issubclass(w.category, jc.PlausibilityWarning)]
+
+
+def test_the_command_line_shows_the_warning_once(tmp_path, capsys):
+    scene = tmp_path / "gpa.toml"
+    scene.write_text(
+        "[surface]\nD = 1.4058\nG = 2.2826e-10\n[material]\nE = 220\nnu = 0.25\nH = 100e9\n[joint]\narea = 1e-4\n"
+        "[loads]\nvalues = [1e-3]\n"
+    )
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-progress"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert [line for line in err if "E = 220 Pa" in line] == [err[0]]
+
+
+def test_an_interrupted_command_exits_130(monkeypatch, capsys, tmp_path):
+    """Exit codes (docs/cli.md): 130 after Ctrl-C, with one line."""
+    from jaxcontact.cli import commands
+
+    def interrupted(*_):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(commands, "load_scene", interrupted, raising=False)
+    monkeypatch.setattr("jaxcontact.cli.scenefile.load_scene", interrupted)
+    assert main(["run", "--out", str(tmp_path), "--no-progress"]) == 130
+    assert capsys.readouterr().err == "jaxcontact: interrupted\n"
+
+
+def test_a_usage_mistake_is_one_line_with_exit_2(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["surface", "scan.x3p", "--unit", "inch"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [
+        "jaxcontact surface: error: argument --unit: invalid choice: 'inch' (choose from 'm', 'mm', 'µm', 'um', 'nm')"
+    ]
