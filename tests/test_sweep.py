@@ -74,7 +74,7 @@ def test_sweep_command_writes_csv(tmp_path, capsys):
     assert main(["sweep", "--D", "1.4:1.6", "--out", str(tmp_path)]) == 2
     assert "LOW:HIGH:COUNT" in capsys.readouterr().err
     assert main(["sweep", "--D", "1.4:2.5:3", "--out", str(tmp_path)]) == 2
-    assert "D (fractal dimension) = 2.5 is outside its valid range (1, 2)" in capsys.readouterr().err
+    assert "--D 2.5 (fractal dimension) is outside its valid range (1, 2)" in capsys.readouterr().err
     np.testing.assert_allclose(payload["rows"][0]["D"], 1.4)
 
 
