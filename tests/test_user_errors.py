@@ -54,17 +54,6 @@ def test_a_plausible_scene_is_not_warned_about(recwarn):
     assert not [w for w in recwarn if issubclass(w.category, jc.PlausibilityWarning)]
 
 
-def test_the_command_line_shows_the_warning_once(tmp_path, capsys):
-    scene = tmp_path / "gpa.toml"
-    scene.write_text(
-        "[surface]\nD = 1.4058\nG = 2.2826e-10\n[material]\nE = 220\nnu = 0.25\nH = 100e9\n[joint]\narea = 1e-4\n"
-        "[loads]\nvalues = [1e-3]\n"
-    )
-    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-progress"]) == 0
-    err = capsys.readouterr().err.splitlines()
-    assert [line for line in err if "E = 220 Pa" in line] == [err[0]]
-
-
 def test_an_interrupted_command_exits_130(monkeypatch, capsys, tmp_path):
     """Exit codes (docs/cli.md): 130 after Ctrl-C, with one line."""
     from jaxcontact.cli import commands
