@@ -30,8 +30,12 @@ def log_residuals(stat, scene, params, loads, log_stiffness):
     return r, ok
 
 
+# The fit reads the stiffness and the status alone.
+_OUTPUTS = jc.Outputs(regime_shares=False)
+
+
 def residuals_and_status(stat, scene, params, loads, log_stiffness):
-    sol = jc.solve(with_stat(scene, params, stat), loads)
+    sol = jc.solve(with_stat(scene, params, stat), loads, outputs=_OUTPUTS)
     ok = sol.ok & (sol.stiffness > 0)
     K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
     missed = jnp.where(sol.fully_plastic, ZERO_STIFFNESS_RESIDUAL, FLAGGED_RESIDUAL)

@@ -15,6 +15,7 @@ from .core.loadcontrol import point_solver, solve
 from .core.parameters import Material, Surface
 from .core.scales import DimensionlessScene, Scales, nondimensionalise
 from .core.scene import Scene, stack_scenes
+from .core.settings import NewtonBisection, Outputs
 from .core.solution import Solution
 from .core.status import Status, status_message
 from .models.base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
@@ -54,6 +55,8 @@ __all__ = [
     "table1_scene",
     "stack_scenes",
     "solve",
+    "Outputs",
+    "NewtonBisection",
     "point_solver",
     "approach",
     "Approach",

@@ -43,11 +43,42 @@ def register_model(cls: type[AbstractContactModel]) -> type[AbstractContactModel
     return cls
 
 
-def _option(name: str, value, table: dict):
+def _option(name: str, value, table: dict, **settings):
     if isinstance(value, str):
         check_choice(name, value, tuple(table))
-        return table[value]()
+        return table[value](**settings)
     return value
+
+
+def _quadrature(quadrature, nodes, tolerance):
+    """The quadrature that the names ask for, or None for the interaction's default. A node count
+    or a tolerance alone picks its rule; each is checked even where the rule does not use it, so
+    that a mistyped setting is never silently ignored."""
+    gauss = GaussLegendre(nodes=nodes) if nodes is not None else None
+    adaptive = Adaptive(tolerance=tolerance) if tolerance is not None else None
+    settings = {"gauss-legendre": gauss, "adaptive": adaptive}
+    if isinstance(quadrature, str):
+        check_choice("quadrature", quadrature, tuple(QUADRATURES))
+        return settings.get(quadrature) or QUADRATURES[quadrature]()
+    return quadrature if quadrature is not None else gauss or adaptive
+
+
+def _interaction(interaction, rule, cls):
+    """The interaction the names ask for, with the quadrature `rule` (None: its default)."""
+    if not isinstance(interaction, (str, type(None))):
+        if rule is not None:
+            raise InputError("quadrature given beside the interaction object: pass it to the interaction")
+        return interaction
+    name = interaction if interaction is not None else cls().interaction.name
+    check_choice("interaction", name, tuple(INTERACTIONS))
+    if rule is None:
+        return INTERACTIONS[name]()
+    if "quadrature" not in {f.name for f in dataclasses.fields(INTERACTIONS[name])}:
+        raise InputError(
+            f"quadrature = {rule.name!r} applies to the interactions 'paper' and 'series'; interaction "
+            f"{name!r} has no integral to do"
+        )
+    return INTERACTIONS[name](quadrature=rule)
 
 
 def build_model(
@@ -60,66 +91,34 @@ def build_model(
     quadrature_tolerance=None,
     spot_stiffness=None,
 ) -> AbstractContactModel:
-    """The model object that a name and its options ask for; a model object passes through.
+    """The model object that a name and its options ask for.
 
-    **Arguments:** `model`, a name of `MODELS` or an `AbstractContactModel`; the options, each a
-    name or an object: `interaction` (`INTERACTIONS`), `distribution` (`DISTRIBUTIONS`),
-    `quadrature` (`QUADRATURES`), with `quadrature_nodes` (Gauss–Legendre) and
-    `quadrature_tolerance` (adaptive), `spot_stiffness` (`SPOT_STIFFNESSES`). Options that are
-    None take the model's defaults.
+    **Arguments:** `model`, a name of `MODELS`; the options, each a name or an object: `interaction`
+    (`INTERACTIONS`), `distribution` (`DISTRIBUTIONS`), `spot_stiffness` (`SPOT_STIFFNESSES`), and the
+    interaction's `quadrature` (`QUADRATURES`), with `quadrature_nodes` (Gauss–Legendre) and
+    `quadrature_tolerance` (adaptive). Options that are None take the model's defaults.
 
     **Raises:** `ValueError` for an unknown name, or an option the model does not have.
     """
-    given = {
-        k: v
-        for k, v in dict(
-            interaction=interaction,
-            distribution=distribution,
-            quadrature=quadrature,
-            quadrature_nodes=quadrature_nodes,
-            quadrature_tolerance=quadrature_tolerance,
-            spot_stiffness=spot_stiffness,
-        ).items()
-        if v is not None
-    }
-    if isinstance(model, AbstractContactModel):
-        if given:
-            raise InputError(f"{', '.join(given)} given beside the model object {model!r}: pass them to the model")
-        return model
     check_choice("model", model, tuple(MODELS))
     cls = MODELS[model]
     fields = {f.name for f in dataclasses.fields(cls)}
-    # Checked even where unused, so that a mistyped setting is never silently ignored.
-    nodes = GaussLegendre(nodes=quadrature_nodes) if quadrature_nodes is not None else None
-    adaptive = Adaptive(tolerance=quadrature_tolerance) if quadrature_tolerance is not None else None
-    if "interaction" not in fields and interaction not in (None, "none"):
-        raise InputError(
-            f"interaction = {interaction!r} applies to models with interaction only; model "
-            f"{model!r} has no interaction (use 'none' or leave it out)"
-        )
+    rule = _quadrature(quadrature, quadrature_nodes, quadrature_tolerance)
     options = {}
-    if "interaction" in fields and interaction is not None:
-        options["interaction"] = _option("interaction", interaction, INTERACTIONS)
+    if interaction is not None or rule is not None:
+        if "interaction" not in fields:
+            if interaction not in (None, "none") or rule is not None:
+                raise InputError(
+                    f"interaction = {interaction!r} applies to models with interaction only; model "
+                    f"{model!r} has no interaction (use 'none' or leave it out)"
+                )
+        else:
+            options["interaction"] = _interaction(interaction, rule, cls)
     if spot_stiffness is not None:
         options["spot_stiffness"] = _option("spot_stiffness", spot_stiffness, SPOT_STIFFNESSES)
     if distribution is not None:
         options["distribution"] = _option("distribution", distribution, DISTRIBUTIONS)
-    if "quadrature" in fields:
-        chosen = _option("quadrature", quadrature, QUADRATURES) if quadrature is not None else None
-        if isinstance(chosen, GaussLegendre) and nodes is not None:
-            chosen = nodes
-        elif isinstance(chosen, Adaptive) and adaptive is not None:
-            chosen = adaptive
-        options["quadrature"] = chosen
     unknown = [k for k in options if k not in fields]
     if unknown:
         raise InputError(f"model {model!r} takes no {unknown[0]}")
-    built = cls(**options)
-    if (
-        "quadrature" in fields
-        and quadrature is None
-        and nodes is not None
-        and isinstance(built.quadrature, GaussLegendre)
-    ):
-        built = dataclasses.replace(built, quadrature=nodes)
-    return built
+    return cls(**options)

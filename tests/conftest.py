@@ -91,8 +91,9 @@ BEM_L = 100e-6
 BEM_SETTING = dict(D=1.5, G=1e-12, E=210e9, nu=0.3, H=3e8, area=BEM_L * BEM_L, l_min=BEM_L / 64)
 
 
-def make_scene(D, G, E, nu, H, area, l_min, **kw):
-    return jc.Scene(jc.Surface(D=D, G=G, l_min=l_min), jc.Material(E=E, nu=nu, H=H), area, **kw)
+def make_scene(D, G, E, nu, H, area, l_min, model="xia2024", **options):
+    """A scene of these values; `model` an object, or a name with its `options` by name."""
+    return jc.Scene(jc.Surface(D=D, G=G, l_min=l_min), jc.Material(E=E, nu=nu, H=H), area, model, **options)
 
 
 def make_joint(scene):
@@ -130,7 +131,7 @@ def table1_scene():
 @pytest.fixture(scope="session")
 def dynamics_scene():
     """The embedded scene of `jaxcontact approach` and `jaxcontact dynamics` (Table 1, "paper",
-    no regime shares), as the commands read it: the library's tests of the approach and the
+    as the commands read it: the library's tests of the approach and the
     dynamics use it, so that the commands' tests beside them reuse their compiled programs."""
     from jaxcontact.cli.scenefile import DYNAMICS_SCENE, load_scene
 

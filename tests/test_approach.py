@@ -29,8 +29,7 @@ def quadrature(scene, F, F0):
 
 @pytest.mark.parametrize("model", ["xia2024", "jzz2010"])
 def test_matches_quadrature_of_inverse_stiffness(model):
-    # Without regime shares, as the command's scene (`dynamics_scene`): one compiled approach for both.
-    scene = make_scene(**TABLE1, model=model, regime_shares=False)
+    scene = make_scene(**TABLE1, model=model)
     result = jc.approach(scene, LOADS, F0)
     assert np.all(np.asarray(result.status) == 0)
     expected = [quadrature(scene, float(F), F0) for F in LOADS]
@@ -140,8 +139,8 @@ def test_run_adds_the_approach_only_when_asked(tmp_path, capsys):
 
 
 def test_flagged_points():
-    # 1130 N breaks down with "paper"; no regime shares: the program of the tests above.
-    scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9, regime_shares=False)
+    # 1130 N breaks down with "paper": the program of the tests above.
+    scene = make_scene(1.5, 3e-10, 1.13e11, 0.3, 4e9, 1e-4, 1e-9)
     result = jc.approach(scene, jnp.array([1.13, 113.0, 1130.0]), 11.3)
     np.testing.assert_array_equal(result.status, [0, 0, jc.Status.INTERACTION_BREAKDOWN])
     assert np.all(np.isfinite(np.asarray(result.approach)[:2]))

@@ -21,8 +21,8 @@ def all_equations(jaxpr):
     return out
 
 
-def program(scene):
-    closed = jax.make_jaxpr(lambda s, F: jc.solve(s, F))(jax.tree.map(jnp.asarray, scene), LOADS)
+def program(scene, outputs=jc.Outputs()):
+    closed = jax.make_jaxpr(lambda s, F: jc.solve(s, F, outputs=outputs))(jax.tree.map(jnp.asarray, scene), LOADS)
     return closed, all_equations(closed.jaxpr)
 
 
@@ -47,23 +47,25 @@ def test_without_interaction_the_pressure_never_reaches_the_stiffness():
 
 def test_interaction_quadrature_only_when_asked():
     nodes = 37  # an unusual count, so that no other array has this trailing size
-    for interaction, quadrature in (("none", None), ("paper", "gauss-legendre"), ("series", None), ("paper", None)):
-        scene = make_scene(**TABLE1, interaction=interaction, quadrature=quadrature, quadrature_nodes=nodes)
-        closed, eqns = program(scene)
-        quadrature = scene.model.quadrature.name
+    for interaction, expected in (
+        (jc.NoInteraction(), False),
+        (jc.PaperInteraction(jc.GaussLegendre(nodes)), True),
+        (jc.SeriesInteraction(jc.GaussLegendre(nodes)), True),
         # The default for "paper" sums the pole term's series: no nodes at all.
-        expected = interaction != "none" and quadrature == "gauss-legendre"
-        assert has_quadrature_nodes(closed, eqns, nodes) == expected, (interaction, quadrature)
+        (jc.PaperInteraction(), False),
+    ):
+        closed, eqns = program(make_scene(**TABLE1, model=jc.Xia2024(interaction=interaction)))
+        assert has_quadrature_nodes(closed, eqns, nodes) == expected, interaction
 
 
 def test_regime_shares_only_when_asked():
-    lean = make_scene(**TABLE1, regime_shares=False)
-    sol = jc.solve(lean, LOADS)
+    scene, lean = make_scene(**TABLE1), jc.Outputs(regime_shares=False)
+    sol = jc.solve(scene, LOADS, outputs=lean)
     assert sol.load_share is None
     assert sol.stiffness_share is None
     # Same numbers (XLA may fuse the two programs differently: last-bit differences only).
-    np.testing.assert_allclose(sol.stiffness, jc.solve(make_scene(**TABLE1), LOADS).stiffness, rtol=1e-14)
-    assert len(program(lean)[1]) < len(program(make_scene(**TABLE1))[1])
+    np.testing.assert_allclose(sol.stiffness, jc.solve(scene, LOADS).stiffness, rtol=1e-14)
+    assert len(program(scene, lean)[1]) < len(program(scene)[1])
 
 
 def test_mb_distribution_has_no_wk_root_find():

@@ -14,18 +14,19 @@ import jaxcontact as jc
 from jaxcontact.core import compiling, loadcontrol, programs
 
 
-def _compiled_lengths(scene):
-    leaves, treedef = jax.tree_util.tree_flatten(scene)
+def _compiled_lengths(scene, outputs, solver):
+    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs, solver))
     return programs.program(loadcontrol._solve, treedef).flat._cache_size()
 
 
 def test_one_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
     # A configuration no other test uses, so that its program starts with an empty cache.
-    scene = make_scene(**TABLE1, interaction="none", regime_shares=False, quadrature_nodes=23)
-    jc.solve(scene, 22.0)
+    scene = make_scene(**TABLE1, interaction="none")
+    settings = dict(outputs=jc.Outputs(regime_shares=False), solver=jc.NewtonBisection(max_steps=63))
+    jc.solve(scene, 22.0, **settings)
     for count in (7, 30, 200):
-        jc.solve(scene, np.geomspace(1.0, 1e3, count))
-    assert _compiled_lengths(scene) == 2
+        jc.solve(scene, np.geomspace(1.0, 1e3, count), **settings)
+    assert _compiled_lengths(scene, **settings) == 2
 
 
 def test_a_single_load_padded_to_a_bucket_keeps_its_scalar_shape(table1_scene):
@@ -209,7 +210,7 @@ def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_p
         first = jc.solve(scene, loads)
         programs.program.cache_clear()
         again = jc.solve(scene, loads)
-    assert _compiled_lengths(scene) == 0  # the jitted function was never traced in its place
+    assert _compiled_lengths(scene, jc.Outputs(), jc.NewtonBisection()) == 0  # never traced in its place
     assert jax.tree_util.tree_structure(again) == jax.tree_util.tree_structure(first)
     for name in ("a_l", "stiffness", "real_area", "status", "load_share", "modulus"):
         np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
@@ -282,12 +283,20 @@ print(max(float(np.max(np.abs(getattr(short, n)[ok] / getattr(default, n)[ok] - 
 
 
 @pytest.mark.parametrize(
-    "options",
-    [dict(), dict(regime_shares=False), dict(model="jzz2010"), dict(model="gw"), dict(model="persson")],
+    "options, shares",
+    [
+        (dict(), True),
+        (dict(), False),
+        (dict(model="jzz2010"), True),
+        (dict(model="gw"), True),
+        (dict(model="persson"), True),
+    ],
     ids=["xia2024", "no-shares", "jzz2010", "gw", "persson"],
 )
-def test_the_solution_tree_is_known_without_tracing(options):
-    scene = make_scene(**TABLE1, **options)
-    leaves, treedef = jax.tree_util.tree_flatten(scene)
-    traced = jax.tree_util.tree_structure(jax.eval_shape(jc.solve, scene, jnp.ones(3)))
+def test_the_solution_tree_is_known_without_tracing(options, shares):
+    scene, outputs = make_scene(**TABLE1, **options), jc.Outputs(regime_shares=shares)
+    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs, jc.NewtonBisection()))
+    traced = jax.tree_util.tree_structure(
+        jax.eval_shape(lambda s, F: jc.solve(s, F, outputs=outputs), scene, jnp.ones(3))
+    )
     assert loadcontrol._solution_tree(treedef)(leaves) == traced

@@ -99,7 +99,10 @@ def test_a_directory_is_not_called_missing(tmp_path):
         ({"spot_stiffness": "sneddon"}, jc.Xia2024(spot_stiffness=jc.Sneddon())),
         ({"interaction": "series"}, jc.Xia2024(interaction=jc.SeriesInteraction())),
         ({"distribution": "wk"}, jc.Xia2024(distribution=jc.WangKomvopoulos())),
-        ({"quadrature": "gauss-legendre", "quadrature_nodes": 24}, jc.Xia2024(quadrature=jc.GaussLegendre(nodes=24))),
+        (
+            {"quadrature": "gauss-legendre", "quadrature_nodes": 24},
+            jc.Xia2024(interaction=jc.PaperInteraction(quadrature=jc.GaussLegendre(nodes=24))),
+        ),
     ],
 )
 def test_every_model_option_is_accepted_in_the_model_table(model, expected):

@@ -71,7 +71,7 @@ def test_bench_times_the_users_call_under_jax_defaults():
     does not; the child's curve is timed against its own scipy run."""
     from jaxcontact.studies.bench_user import curve_as_users_call_it
 
-    scene = make_scene(**CASES[0], interaction="none", regime_shares=False)
+    scene = make_scene(**CASES[0], interaction="none")
     result = curve_as_users_call_it(scene, rounds=1, repeats=2, only=("plain",))
     assert result["async_dispatch"] is True
     timed = {name for name, value in result.items() if isinstance(value, dict) and value["median_s"] > 0}

@@ -60,14 +60,36 @@ def test_arrays_are_checked_elementwise():
             dict(quadrature="simpson"),
             r"quadrature = 'simpson' is not one of 'power-series', 'gauss-legendre', 'adaptive'",
         ),
-        (dict(interaction="series", quadrature="power-series"), r"'power-series' applies to interaction 'paper' only"),
-        (dict(max_steps=0), r"max_steps = 0"),
+        (dict(interaction="series", quadrature="power-series"), r"PowerSeries\(\) is for 'paper' only"),
+        (dict(interaction="none", quadrature="adaptive"), r"interaction 'none' has no integral to do"),
+        (
+            dict(model="xia2024", regime_shares=False),
+            r"build_model\(\) got an unexpected keyword argument 'regime_shares'",
+        ),
     ],
 )
 def test_scene(kw, pattern):
     params = TABLE1 | {k: kw.pop(k) for k in ("area", "l_min") if k in kw}
-    with pytest.raises(ValueError, match=pattern):
+    with pytest.raises((ValueError, TypeError), match=pattern):
         make_scene(**params, **kw)
+
+
+@pytest.mark.parametrize(
+    "kw, pattern",
+    [
+        (dict(max_steps=0), r"max_steps = 0 must be an integer in \[1, 10000\]"),
+        (dict(max_steps=2.5), r"max_steps = 2.5 must be an integer"),
+        (dict(tolerance=0.5), r"solver_tolerance = 0.5 must be None or in \(0, 0.01\)"),
+    ],
+)
+def test_solver_settings(kw, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        jc.NewtonBisection(**kw)
+
+
+def test_outputs_settings():
+    with pytest.raises(ValueError, match=r"regime_shares = 'no' must be true or false"):
+        jc.Outputs(regime_shares="no")
 
 
 @pytest.mark.parametrize(

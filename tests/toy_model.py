@@ -15,6 +15,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from jaxcontact import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from jaxcontact.models.load_pieces import GenericLoadPieces
 from jaxcontact.numerics.powerlaw import PowerLaw
 from jaxcontact.physics.asperity import regime_load_laws
 from jaxcontact.physics.distribution import size_distribution
@@ -38,6 +39,9 @@ class AllElasticJoint(AbstractJoint):
 
     def kinks(self):
         return jnp.zeros((0,), self.log_a_min.dtype)
+
+    def load_pieces(self):
+        return GenericLoadPieces.of(self)
 
     def regime_load(self, log_a_l):
         n = size_distribution(self.D, log_a_l, 0.0)

@@ -5,9 +5,10 @@ from __future__ import annotations
 import jax
 import numpy as np
 
-from ..core.loadcontrol import solve
+from ..core.loadcontrol import DEFAULT_OUTPUTS, DEFAULT_SOLVER, solve
 from ..core.programs import bucket, edge_padded
 from ..core.scene import Scene
+from ..core.settings import NewtonBisection, Outputs
 from ..core.solution import Solution
 
 CHUNK = 4096
@@ -44,15 +45,23 @@ def map_in_chunks(fn, values, *, chunk: int, progress: bool = False, desc: str =
     return jax.tree.map(join, *pieces)
 
 
-def solve_sweep(scene: Scene, loads, *, chunk: int = CHUNK, progress: bool = False) -> Solution:
-    """`solve(scene, loads)` for a 1-D array of loads, as numpy arrays, `chunk` loads at a time
-    (one compilation, bounded memory); `progress=True` shows a tqdm bar."""
+def solve_sweep(
+    scene: Scene,
+    loads,
+    *,
+    outputs: Outputs = DEFAULT_OUTPUTS,
+    solver: NewtonBisection = DEFAULT_SOLVER,
+    chunk: int = CHUNK,
+    progress: bool = False,
+) -> Solution:
+    """`solve(scene, loads, outputs=..., solver=...)` for a 1-D array of loads, as numpy arrays,
+    `chunk` loads at a time (one compilation, bounded memory); `progress=True` shows a tqdm bar."""
     loads = np.asarray(loads, dtype=float).reshape(-1)
     # Fewer loads than a chunk are padded here, on the host, to the length `solve` would pad them
     # to: the same program, and no program to cut its outputs back (one compilation fewer).
     small = 0 < loads.size <= chunk
     return map_in_chunks(
-        lambda block: solve(scene, block),
+        lambda block: solve(scene, block, outputs=outputs, solver=solver),
         loads,
         chunk=bucket(loads.size) if small else chunk,
         pad_small=small,

@@ -52,7 +52,13 @@ def cmd_run(args) -> int:
 
         spec, band = topography_scene(spec, args)
     warnings = implausible_values(spec)
-    solution = solve_sweep(spec.scene, spec.loads, progress=args.progress and spec.loads.size > 4096)
+    solution = solve_sweep(
+        spec.scene,
+        spec.loads,
+        outputs=spec.outputs,
+        solver=spec.solver,
+        progress=args.progress and spec.loads.size > 4096,
+    )
     rows = solution_rows(solution)
     if band is not None:
         for row, lower, upper in zip(rows, band.lower, band.upper):

@@ -19,7 +19,7 @@ def _fits(comparison, K_bem, ok):
 
     rows = []
     for label, options in COMPARED.items():
-        scene = comparison.scene.with_options(**options, regime_shares=False)
+        scene = comparison.scene.with_model(**options)
         try:
             result = fit(comparison.loads[ok], K_bem[ok], scene, params=("D", "G"), n_starts=4)
             D, G, loss, success = result.values["D"], result.values["G"], result.loss, bool(result.success)

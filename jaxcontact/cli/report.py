@@ -114,7 +114,7 @@ def scene_record(spec) -> dict:
 
     scene = spec.scene
     parameters = {name: float(p.get(scene)) for name, p in PARAMETERS.items()}
-    settings = dict(regime_shares=scene.regime_shares, max_steps=scene.max_steps)
+    settings = dict(regime_shares=spec.outputs.regime_shares, max_steps=spec.solver.max_steps)
     return {
         "jaxcontact": jaxcontact.__version__,
         "title": spec.title,

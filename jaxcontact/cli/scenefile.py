@@ -37,6 +37,7 @@ except ModuleNotFoundError:  # Python < 3.11
 from ..core.parameters import Material, Surface
 from ..core.scales import Scales
 from ..core.scene import Scene
+from ..core.settings import NewtonBisection, Outputs
 from ..numerics.validate import InputError
 
 DEFAULT_SCENE = "table1_grinding.toml"
@@ -95,8 +96,10 @@ class DynamicsSpec:
 
 @dataclasses.dataclass(frozen=True)
 class SceneFile:
-    """A scene as read from TOML: the `Scene`, the loads (N), a title, and the optional effects
-    `approach_reference` (N, the preload of the load–approach curve) and `dynamics`."""
+    """A scene as read from TOML: the `Scene`, the loads (N), a title, the optional effects
+    `approach_reference` (N, the preload of the load–approach curve) and `dynamics`, and the
+    options of `solve` it asks for (`outputs`: `[effects] regime_shares`; `solver`: `[model]
+    max_steps`, `solver_tolerance`)."""
 
     title: str
     scene: Scene
@@ -104,6 +107,8 @@ class SceneFile:
     source: str
     approach_reference: float | None = None
     dynamics: DynamicsSpec | None = None
+    outputs: Outputs = Outputs()
+    solver: NewtonBisection = NewtonBisection()
 
     @property
     def load_star(self) -> np.ndarray:
@@ -178,18 +183,14 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     name = model.pop("name", "xia2024")
     for key in set(model) & set(effects):
         raise SceneFileError(f"{key} is given in both [model] and [effects]: give it once")
+    settings = {k: model.pop(k) for k in ("max_steps", "solver_tolerance") if k in model}
     options = {**model, **{k: v for k, v in effects.items() if k != "regime_shares"}}
     try:
         surface = Surface(**data["surface"])
         material = Material(**data["material"])
-        scene = Scene(
-            surface,
-            material,
-            data["joint"]["area"],
-            model=name,
-            regime_shares=effects.get("regime_shares", True),
-            **options,
-        )
+        scene = Scene(surface, material, data["joint"]["area"], model=name, **options)
+        outputs = Outputs(regime_shares=effects.get("regime_shares", True))
+        solver = NewtonBisection(settings.get("max_steps", 64), settings.get("solver_tolerance"))
     except SceneFileError:
         raise
     except InputError as exc:
@@ -208,6 +209,8 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
         source=source,
         approach_reference=None if reference is None else float(reference),
         dynamics=_dynamics(data["dynamics"]) if "dynamics" in data else None,
+        outputs=outputs,
+        solver=solver,
     )
 
 

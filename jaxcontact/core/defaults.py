@@ -27,12 +27,11 @@ def table1_values() -> dict[str, float]:
     return {k: float(v) for k, v in values.items()}
 
 
-def table1_scene(**options):
-    """The Table 1 grinding scene as a `Scene`; `options` go to `Scene` (model, interaction, ...)."""
+def table1_scene(model="xia2024", **options):
+    """The Table 1 grinding scene as a `Scene`: `model` an object, or a name with its `options` by name."""
     from .parameters import Material, Surface
     from .scene import Scene
 
     v = table1_values()
-    return Scene(
-        Surface(D=v["D"], G=v["G"], l_min=v["l_min"]), Material(E=v["E"], nu=v["nu"], H=v["H"]), v["area"], **options
-    )
+    joint = Scene(Surface(D=v["D"], G=v["G"], l_min=v["l_min"]), Material(E=v["E"], nu=v["nu"], H=v["H"]), v["area"])
+    return joint.with_model(model, **options)

@@ -26,6 +26,7 @@ from .defaults import table1_values
 from .domain import PARAMETERS, all_valid, scene_fields, valid_fields
 from .scales import Scales, nondimensionalise
 from .scene import Scene
+from .settings import NewtonBisection, Outputs
 from .solution import Solution, is_solved, masked_rescale
 from .status import Status
 
@@ -84,7 +85,7 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
-def point_solver(scene: Scene):
+def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
 
     Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
@@ -94,9 +95,8 @@ def point_solver(scene: Scene):
     """
     scene, in_domain = within_domain(scene)
     s = nondimensionalise(scene)
-    dtype = jnp.result_type(s.log_a_min)
-    tolerance = scene.solver_tolerance or float(64 * jnp.finfo(dtype).eps)
-    model_point = scene.model.point_solver(s, tolerance=tolerance, max_steps=scene.max_steps)
+    tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
+    model_point = scene.model.point_solver(s, tolerance=tolerance, max_steps=solver.max_steps)
 
     def one_point(F_star) -> PointResult:
         point = model_point(F_star)
@@ -112,7 +112,8 @@ def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
     return scene.model.kink_log_loads(nondimensionalise(scene))
 
 
-def _solve(scene: Scene, loads):
+def _solve(tree: tuple[Scene, Outputs, NewtonBisection], loads):
+    scene, outputs, solver = tree
     # The scales too come from the stand-in where the scene is out of its domain (the points are
     # flagged by `point_solver`, which is handed the scene as it is).
     guarded, _ = within_domain(scene)
@@ -121,7 +122,7 @@ def _solve(scene: Scene, loads):
     # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
     usable = jnp.isfinite(loads) & (loads > 0)
     load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
-    points = jax.vmap(point_solver(scene))(load_star.reshape(-1))
+    points = jax.vmap(point_solver(scene, solver))(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     solved = is_solved(status)
@@ -130,7 +131,7 @@ def _solve(scene: Scene, loads):
     a_l_star = jnp.exp(log_a_l)
     load_share = stiffness_share = None
     regimes = scene.model.regimes
-    if scene.regime_shares:
+    if outputs.regime_shares:
         load_total = jnp.where(solved, unrolled_sum(response.regime_load), 1.0)[:, None]
         positive = jnp.where(ok & (stiffness_total > 0), stiffness_total, 1.0)[:, None]  # K = 0: all plastic
         load_share = masked_rescale(solved[:, None], response.regime_load / load_total).reshape(shape + (len(regimes),))
@@ -155,8 +156,8 @@ def _solution_tree(treedef):
     """`leaves ↦` the tree structure of `_solve`'s `Solution` for this scene, without tracing it."""
 
     def tree(leaves):
-        scene = jax.tree_util.tree_unflatten(treedef, leaves)
-        shares = 0.0 if scene.regime_shares else None
+        scene, outputs, _ = jax.tree_util.tree_unflatten(treedef, leaves)
+        shares = 0.0 if outputs.regime_shares else None
         fields = ("load", "a_l", "stiffness", "real_area", "status", "modulus", "nominal_area")
         template = Solution(
             **dict.fromkeys(fields, 0.0), load_share=shares, stiffness_share=shares, regimes=scene.model.regimes
@@ -187,15 +188,25 @@ def _on_host(array: jax.Array) -> bool:
 _last_scene: dict = {}
 
 
-def _scene_leaves(scene: Scene, loads):
+def _same(a, b) -> bool:
+    return a is b or a == b
+
+
+def _scene_leaves(scene: Scene, outputs: Outputs, solver: NewtonBisection, loads):
     keep = top_level()
-    if "scene" in _last_scene and _last_scene["scene"] is scene:
+    last = _last_scene.get("tree")
+    if last is not None and last[0] is scene and _same(last[1], outputs) and _same(last[2], solver):
         return _cast(_last_scene, loads, keep)
     check_instance("scene", scene, Scene)
-    leaves, treedef = jax.tree_util.tree_flatten(scene)
+    check_instance("outputs", outputs, Outputs)
+    check_instance("solver", solver, NewtonBisection)
+    # The settings have no array leaves: they are part of the tree's structure, so that each
+    # combination is its own program.
+    tree = (scene, outputs, solver)
+    leaves, treedef = jax.tree_util.tree_flatten(tree)
     if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
         _check_scalar_parameters(scene)
-    entry = dict(scene=scene, leaves=leaves, treedef=treedef, cast={}, dtypes={})
+    entry = dict(tree=tree, leaves=leaves, treedef=treedef, cast={}, dtypes={})
     if not keep:  # traced leaves too: they exist only inside a trace
         return _cast(entry, loads, keep=False)
     _last_scene.clear()
@@ -216,7 +227,7 @@ def _cast(entry: dict, loads, keep: bool):
             for x in leaves
         ]
         unchanged = all(a is b for a, b in zip(arrays, leaves))
-        cast = (entry["scene"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], arrays), arrays)
+        cast = (entry["tree"] if unchanged else jax.tree_util.tree_unflatten(entry["treedef"], arrays), arrays)
         if keep:
             entry["cast"][dtype] = cast
     return dtype, *cast, entry["treedef"]
@@ -229,37 +240,53 @@ def _cast(entry: dict, loads, keep: bool):
 _last_loads: tuple = (None, None, None)
 
 
-def _prepare(scene: Scene, loads):
+def _prepare(scene: Scene, loads, outputs: Outputs = Outputs(), solver: NewtonBisection = NewtonBisection()):
     global _last_loads
     last, last_dtype, last_prepared = _last_loads
     seen = last is loads
     if not seen:
         _check_loads(loads)
-    dtype, scene, leaves, treedef = _scene_leaves(scene, loads)
+    dtype, tree, leaves, treedef = _scene_leaves(scene, outputs, solver, loads)
     if seen and last_dtype == dtype:
-        return scene, leaves, treedef, last_prepared
+        return tree, leaves, treedef, last_prepared
     if isinstance(loads, jax.core.Tracer) or (isinstance(loads, jax.Array) and not _on_host(loads)):
         prepared = loads if loads.dtype == dtype else loads.astype(dtype)
     else:  # host arrays go to a jitted program as they are, faster than through jnp.asarray
         prepared = np.asarray(loads, dtype=dtype)
     if isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer) and top_level():
         _last_loads = (loads, dtype, prepared)
-    return scene, leaves, treedef, prepared
+    return tree, leaves, treedef, prepared
 
 
 def prepare(scene: Scene, loads):
-    """Check concrete loads and parameters, pick the working dtype, and make every float leaf an array of it."""
-    scene, _, _, loads = _prepare(scene, loads)
+    """Check concrete loads and parameters, pick the working dtype, and make every float leaf an
+    array of it: `(scene, loads)` as `solve` would compute with them."""
+    (scene, _, _), _, _, loads = _prepare(scene, loads)
     return scene, loads
 
 
-def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
+# The defaults of `solve`'s options: one object each, so that the last call's check is an identity test.
+DEFAULT_OUTPUTS = Outputs()
+DEFAULT_SOLVER = NewtonBisection()
+
+
+def solve(
+    scene: Scene,
+    loads: Float[ArrayLike, "*loads"],
+    *,
+    outputs: Outputs = DEFAULT_OUTPUTS,
+    solver: NewtonBisection = DEFAULT_SOLVER,
+) -> Solution:
     """Normal contact stiffness of the joint at each load (MODEL.md §4, Eqs. 30–39).
 
     **Arguments:**
 
-    - `scene`: the joint and the model choices (`jaxcontact.Scene`).
+    - `scene`: the joint and its model (`jaxcontact.Scene`).
     - `loads`: total normal load F in newtons, a scalar or an array of any shape.
+    - `outputs`: what to return beside K, a_l and A_r: `Outputs(regime_shares=True)` (the default)
+      splits load and stiffness by regime; `Outputs(regime_shares=False)` spends nothing on it.
+    - `solver`: the per-load solve of the model's state, `NewtonBisection(max_steps=64,
+      tolerance=None)` (64 ε of the working dtype).
 
     **Returns:** a `Solution` with one entry per load. Points that cannot be computed (load out of
     range, interaction breakdown, unconverged solve, a traced non-positive load) carry a non-zero
@@ -271,5 +298,5 @@ def solve(scene: Scene, loads: Float[ArrayLike, "*loads"]) -> Solution:
 
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
-    _, leaves, treedef, loads = _prepare(scene, loads)
+    _, leaves, treedef, loads = _prepare(scene, loads, outputs, solver)
     return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))

@@ -14,10 +14,11 @@ subclasses `AbstractContactModel` and writes its own `point_solver`.
 from __future__ import annotations
 
 import abc
+import dataclasses
+import typing
 from collections.abc import Callable
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
@@ -25,7 +26,7 @@ from ..core.scales import DimensionlessScene
 from ..core.status import Status
 from ..numerics.elementwise import unrolled_sum
 from ..numerics.rootfind import solve_increasing
-from .load_pieces import AbstractLoadPieces, GenericLoadPieces
+from .load_pieces import AbstractLoadPieces
 
 # A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
 # the elastic comparators (GW, Persson), whose loads are flagged out of range there.
@@ -80,14 +81,26 @@ class AbstractContactModel(eqx.Module):
         put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
         """
 
+    @abc.abstractmethod
     def kink_log_loads(self, s: DimensionlessScene) -> Float[Array, " kinks"]:
-        """`ln F*` where the slope of K(F) jumps (none by default); integrators of K(F) step to them."""
-        del s
-        return jnp.zeros((0,))
+        """`ln F*` where the slope of K(F) jumps (an empty array for a smooth model); integrators
+        of K(F) step to them."""
 
+    @typing.final
     def options(self) -> dict[str, str]:
-        """The model's choices by name, as scene files and reports spell them."""
-        return {"model": self.name}
+        """The model's choices by name, as scene files and reports spell them: `model`, then every
+        field that is a named choice, and the choices inside those (an interaction's quadrature)."""
+        return {"model": self.name, **_named_choices(self)}
+
+
+def _named_choices(module: eqx.Module) -> dict[str, str]:
+    choices = {}
+    for field in dataclasses.fields(module):
+        value = getattr(module, field.name)
+        if isinstance(value, eqx.Module) and isinstance(getattr(type(value), "name", None), str):
+            choices[field.name] = value.name
+            choices.update(_named_choices(value))
+    return choices
 
 
 class AbstractJoint(eqx.Module):
@@ -113,10 +126,10 @@ class AbstractJoint(eqx.Module):
             [self.log_a_min[None], jnp.clip(self.kinks(), self.log_a_min, 0.0), jnp.zeros_like(self.log_a_min)[None]]
         )
 
+    @abc.abstractmethod
     def load_pieces(self) -> AbstractLoadPieces:
-        """`F_t` piece by piece between its kinks, for the load-controlled solve."""
-        knots = self.knots()
-        return GenericLoadPieces(knots, jnp.log(jax.vmap(self.total_load)(knots)), self)
+        """`F_t` piece by piece between its kinks, for the load-controlled solve: for any joint
+        `GenericLoadPieces.of(self)`; a joint with closed-form pieces can do better."""
 
     @abc.abstractmethod
     def response(self, log_a_l, log_load) -> JointResponse:
@@ -144,10 +157,12 @@ class AbstractLargestSpotModel(AbstractContactModel):
     def joint(self, s: DimensionlessScene) -> AbstractJoint:
         """The dimensionless joint of this model for the scene's groups `s`."""
 
+    @typing.final
     def kink_log_loads(self, s):
         """Where `a_l` crosses a regime boundary: the loads at the kinks of `F_t` (`AbstractJoint.kinks`)."""
         return self.joint(s).load_pieces().knot_log_loads[1:-1]
 
+    @typing.final
     def point_solver(self, s, *, tolerance, max_steps):
         """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (MODEL.md §4).
 

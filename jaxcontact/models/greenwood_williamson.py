@@ -91,6 +91,9 @@ class GreenwoodWilliamson(AbstractContactModel):
     name: ClassVar[str] = "gw"
     regimes: ClassVar[tuple[str, ...]] = ("e",)
 
+    def kink_log_loads(self, s):
+        return jnp.zeros((0,), jnp.result_type(s.D))
+
     def point_solver(self, s, *, tolerance, max_steps):
         log_eta, log_R, log_sigma = summit_statistics(s)
         log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_sigma

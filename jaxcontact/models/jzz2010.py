@@ -19,6 +19,7 @@ from ..physics.asperity import regime_load_laws
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
 from ..physics.spot_stiffness import hertz_stiffness
 from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from .load_pieces import GenericLoadPieces
 
 
 class JZZ2010(AbstractLargestSpotModel):
@@ -34,9 +35,6 @@ class JZZ2010(AbstractLargestSpotModel):
 
     def __check_init__(self):
         check_instance("distribution", self.distribution, AbstractDistribution)
-
-    def options(self):
-        return {"model": self.name, "distribution": self.distribution.name}
 
     def joint(self, s: DimensionlessScene) -> JZZ2010Joint:
         laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
@@ -69,6 +67,9 @@ class JZZ2010Joint(AbstractJoint):
 
     def kinks(self):
         return self.log_a_c[None]
+
+    def load_pieces(self):
+        return GenericLoadPieces.of(self)
 
     def regime_load(self, log_a_l):
         n = size_distribution(self.D, log_a_l, self.log_density)

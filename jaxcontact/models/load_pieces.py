@@ -37,9 +37,9 @@ class AbstractLoadPieces(eqx.Module):
     def log_load(self, log_a_l, piece) -> Float[Array, ""]:
         """`ln F_t*(a_l)`, valid for `knots[piece] ≤ ln a_l ≤ knots[piece + 1]`."""
 
+    @abc.abstractmethod
     def log_load_slope(self, log_a_l, piece) -> Float[Array, ""]:
-        """`d ln F_t* / d ln a_l*` on the piece (forward-mode differentiation of `log_load`)."""
-        return jax.jvp(lambda x: self.log_load(x, piece), (log_a_l,), (jnp.ones_like(log_a_l),))[1]
+        """`d ln F_t* / d ln a_l*` on the piece."""
 
     def locate(self, log_load) -> tuple[Int[Array, ""], Float[Array, ""], Float[Array, ""], Float[Array, ""]]:
         """The piece that holds the load `ln F*`, its ends, and a first guess of `ln a_l*` on it.
@@ -66,9 +66,19 @@ class GenericLoadPieces(AbstractLoadPieces):
     knot_log_loads: Float[Array, "pieces_plus_1"]
     joint: eqx.Module
 
+    @classmethod
+    def of(cls, joint) -> GenericLoadPieces:
+        """The pieces of `joint` (an `AbstractJoint`) between its knots."""
+        knots = joint.knots()
+        return cls(knots, jnp.log(jax.vmap(joint.total_load)(knots)), joint)
+
     def log_load(self, log_a_l, piece):
         del piece
         return jnp.log(self.joint.total_load(log_a_l))
+
+    def log_load_slope(self, log_a_l, piece):
+        """By forward-mode differentiation of `log_load`."""
+        return jax.jvp(lambda x: self.log_load(x, piece), (log_a_l,), (jnp.ones_like(log_a_l),))[1]
 
 
 class PowerLawLoadPieces(AbstractLoadPieces):
@@ -88,7 +98,7 @@ class PowerLawLoadPieces(AbstractLoadPieces):
     completed: Float[Array, "4"]
 
     @classmethod
-    def build(cls, knots, density_exponent, laws: PowerLaw):
+    def build(cls, knots, density_exponent, laws: PowerLaw) -> PowerLawLoadPieces:
         """From the knots (the regime edges clipped to `[ln a_min*, 0]`) and the per-regime laws."""
         full = laws.integral(knots[:-1], knots[1:])
         totals = [jnp.zeros_like(full[0])]

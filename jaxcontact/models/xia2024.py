@@ -9,8 +9,8 @@ For a given largest spot `a_l`, each regime's interval is clipped to `(a_min, a_
 
 `F_t` does not depend on the interaction (MODEL.md §4): the paper's Eq. (31) writes f through ω,
 and with ω = a/(πR) that is Eq. (5) exactly. Without interaction all of these are power-law
-integrals with closed forms; with interaction the stiffness is the closed form plus a correction
-(`numerics.interaction_integral`).
+integrals with closed forms; with interaction the stiffness is the closed form plus the
+interaction's correction (`AbstractInteraction.corrections`).
 """
 
 from __future__ import annotations
@@ -21,19 +21,11 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ..core.scales import DimensionlessScene
-from ..numerics.interaction_integral import paper_correction, series_correction
 from ..numerics.powerlaw import PowerLaw
-from ..numerics.quadrature import AbstractQuadrature, GaussLegendre, PowerSeries
-from ..numerics.validate import InputError, check_instance
+from ..numerics.validate import check_instance
 from ..physics.asperity import interference, regime_edges, regime_load_laws
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
-from ..physics.interaction import (
-    AbstractInteraction,
-    PaperInteraction,
-    SeriesInteraction,
-    breakdown_log_area,
-    interaction_ratio,
-)
+from ..physics.interaction import AbstractInteraction, PaperInteraction
 from ..physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative
 from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from .load_pieces import PowerLawLoadPieces
@@ -51,56 +43,23 @@ class Xia2024(AbstractLargestSpotModel):
     **Arguments:**
 
     - `interaction`: `PaperInteraction()` (the default, `ω = ξ - σ` as Eqs. 23–26 print),
-      `SeriesInteraction()` (`ω = ξ + σ`) or `NoInteraction()`.
+      `SeriesInteraction()` (`ω = ξ + σ`) or `NoInteraction()`; the first two take the quadrature
+      of their correction (`PaperInteraction(quadrature=GaussLegendre(32))`).
     - `distribution`: `MajumdarBhushan()` (Eq. 30, the default) or `WangKomvopoulos()`.
-    - `quadrature`: how the interaction part of the stiffness is integrated. `PowerSeries()`
-      (the default for "paper": its pole term summed to round-off, no nodes), `GaussLegendre(nodes)`
-      (the default otherwise) or `Adaptive(tolerance)` (quadax Gauss–Kronrod). Unused without
-      interaction. `jaxcontact accuracy` shows what each costs.
     - `spot_stiffness`: `FamilyDerivative()` (the default, Eqs. 27–29, `k = f'/ξ'`) or `Sneddon()`
       (`k = 2E√(a/π)`, one circular spot's stiffness; MODEL.md §9), divided by `1 ± r` alike.
     """
 
     name: ClassVar[str] = "xia2024"
     regimes: ClassVar[tuple[str, ...]] = REGIMES
-    interaction: AbstractInteraction
-    distribution: AbstractDistribution
-    quadrature: AbstractQuadrature
-    spot_stiffness: AbstractSpotStiffness
-
-    def __init__(
-        self,
-        interaction: AbstractInteraction = PaperInteraction(),
-        distribution: AbstractDistribution = MajumdarBhushan(),
-        quadrature: AbstractQuadrature | None = None,
-        spot_stiffness: AbstractSpotStiffness = FamilyDerivative(),
-    ):
-        self.interaction = interaction
-        self.spot_stiffness = spot_stiffness
-        self.distribution = distribution
-        if quadrature is None:
-            quadrature = PowerSeries() if isinstance(interaction, PaperInteraction) else GaussLegendre()
-        self.quadrature = quadrature
+    interaction: AbstractInteraction = PaperInteraction()
+    distribution: AbstractDistribution = MajumdarBhushan()
+    spot_stiffness: AbstractSpotStiffness = FamilyDerivative()
 
     def __check_init__(self):
         check_instance("interaction", self.interaction, AbstractInteraction)
         check_instance("distribution", self.distribution, AbstractDistribution)
-        check_instance("quadrature", self.quadrature, AbstractQuadrature)
         check_instance("spot_stiffness", self.spot_stiffness, AbstractSpotStiffness)
-        if isinstance(self.quadrature, PowerSeries) and isinstance(self.interaction, SeriesInteraction):
-            raise InputError(
-                "quadrature = 'power-series' applies to interaction 'paper' only (got interaction = "
-                "'series'); use 'gauss-legendre' or 'adaptive'"
-            )
-
-    def options(self):
-        return {
-            "model": self.name,
-            "interaction": self.interaction.name,
-            "distribution": self.distribution.name,
-            "quadrature": self.quadrature.name,
-            "spot_stiffness": self.spot_stiffness.name,
-        }
 
     def joint(self, s: DimensionlessScene) -> Xia2024Joint:
         load_laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
@@ -114,7 +73,6 @@ class Xia2024(AbstractLargestSpotModel):
             interference_law=interference_law,
             spot_law=self.spot_stiffness.law(load_laws, interference_law),
             interaction=self.interaction,
-            quadrature=self.quadrature,
         )
 
 
@@ -129,7 +87,6 @@ class Xia2024Joint(AbstractJoint):
     interference_law: PowerLaw
     spot_law: PowerLaw  # k(a) without interaction, per regime
     interaction: AbstractInteraction
-    quadrature: AbstractQuadrature
 
     def intervals(self, log_a_l):
         """Each regime's range of `ln a`, clipped to `(ln a_min, ln a_l]`; empty ones have length 0."""
@@ -154,34 +111,19 @@ class Xia2024Joint(AbstractJoint):
     def regime_stiffness(self, log_a_l, log_load):
         """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
 
-        Without interaction: closed forms. With interaction `k = k₀/(1 ± r)` (`k₀ = f'/ξ'`, or
-        Sneddon's `2E√(a/π)`: `spot_law`), plus
-        the correction `∫ k₀ n (1/(1 ± r) - 1) da` of `numerics.interaction_integral`.
+        `k = k₀/(1 ± r)` (`k₀ = f'/ξ'`, or Sneddon's `2E√(a/π)`: `spot_law`): the closed form of
+        `∫ k₀ n da` plus the interaction's correction (`AbstractInteraction.corrections`).
         """
         lower, upper = self.intervals(log_a_l)
         has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
         integrand = self.spot_law * self.distribution(log_a_l)
         closed_form = integrand.integral(lower, upper) * has_stiffness
-        sign = self.interaction.sign
-        if sign == 0.0:
-            return closed_form, jnp.array(False)
-        ratio = interaction_ratio(self.load_laws, self.interference_law, log_load)
-        nonempty = (upper > lower) & (has_stiffness > 0)
-        if sign < 0:
-            breakdown = jnp.any(nonempty & (breakdown_log_area(ratio) <= upper))
-        else:
-            breakdown = jnp.array(False)
-        # At a breakdown point the value is discarded; a tiny ratio keeps every number (and
-        # gradient) finite, so that one bad point cannot poison the gradient of a batch.
-        ratio = PowerLaw(jnp.where(breakdown, -200.0, ratio.log_coeff), ratio.exponent)
-        # Plastic spots have no stiffness: only the first three regimes are integrated.
+        # Plastic spots have no stiffness: only the first three regimes have a correction.
         rows = slice(0, 3)
         density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
-        ratio, lo, hi = ratio[rows], lower[rows], upper[rows]
-        if sign > 0:
-            part = series_correction(density, ratio, lo, hi, self.quadrature)
-            return closed_form + jnp.concatenate([part, jnp.zeros_like(part[:1])]), breakdown
-        corrections = paper_correction(density, ratio, lo, hi, self.quadrature)
+        corrections, breakdown = self.interaction.corrections(
+            density, self.load_laws[rows], self.interference_law, log_load, lower[rows], upper[rows]
+        )
         # Stacked last, so that each regime stays its own elementwise chain (see `paper_correction`).
         return jnp.stack([closed_form[i] + c for i, c in enumerate(corrections)] + [closed_form[3]]), breakdown
 

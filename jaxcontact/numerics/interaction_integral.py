@@ -9,9 +9,9 @@ so that the quadrature error only touches the (usually small) interaction part.
 - "paper" (`r/(1-r)`, a pole where r = 1, i.e. at breakdown): near breakdown the pole sits at the
   end of the interval and no quadrature in `t` converges. So `r/(1-r) = Σ_{j=1..k} r^j +
   r^(k+1)/(1-r)`: the powers of r are power laws (closed forms), and with `u = r(a)` the remainder
-  is `C ∫ u^p/(1-u) du`, `p = δ/e + k ≥ 2` in every regime for k = 4. With `PowerSeries` its
-  antiderivative is summed to round-off (`pole_integral`); otherwise it is integrated by
-  quadrature in `w = -ln(1-u)`.
+  is `C ∫ u^p/(1-u) du`, `p = δ/e + k ≥ 2` in every regime for k = 4: the quadrature's
+  `pole_integrals` (`PowerSeries` sums its antiderivative to round-off; a row quadrature
+  integrates it in `w = -ln(1-u)`).
 """
 
 from __future__ import annotations
@@ -19,9 +19,8 @@ from __future__ import annotations
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .pole_integral import PoleIntegral
 from .powerlaw import PowerLaw, exponential_integral
-from .quadrature import AbstractQuadrature, AbstractRowQuadrature, PowerSeries
+from .quadrature import AbstractQuadrature, AbstractRowQuadrature
 
 GEOMETRIC_TERMS = 4  # powers of r taken in closed form before the remainder
 
@@ -56,7 +55,7 @@ def paper_correction(
     `density` and `ratio` are `k₀ n a` and `r` as laws in `t = ln a`, one row per regime. With
     `u = r(a)`, `r/(1-r) = Σ_{j=1..k} u^j + u^(k+1)/(1-u)`: the powers are closed forms, and the
     remainder is `C ∫ u^p/(1-u) du` with `C = e^(d - δr/q) / q` and `p = δ/q + k` (`d, δ`: the
-    density's log-coefficient and rate; `r, q`: the ratio's).
+    density's log-coefficient and rate; `r, q`: the ratio's), the quadrature's `pole_integrals`.
 
     **Returns:** one correction per regime, as a list. Each regime is computed as its own chain
     of scalar operations: under `vmap` a vector of regimes would become a short minor axis, and
@@ -64,51 +63,24 @@ def paper_correction(
     series' 21 Horner steps). Row by row the run time is lower (most for long load arrays), for a
     longer compile.
     """
-    series = isinstance(quadrature, PowerSeries)
-    poles = PoleIntegral.build(density.exponent / ratio.exponent + GEOMETRIC_TERMS) if series else None
+    d, r = density, ratio
+    remainders = quadrature.pole_integrals(
+        d.exponent / r.exponent + GEOMETRIC_TERMS,
+        d.log_coeff - d.exponent * r.log_coeff / r.exponent,
+        r.log_coeff + r.exponent * lower,
+        r.log_coeff + r.exponent * upper,
+    )
     corrections = []
-    for i in range(lower.shape[0]):
-        d, r, lo, hi = density[i], ratio[i], lower[i], upper[i]
+    for i, remainder in enumerate(remainders):
+        lo, hi = lower[i], upper[i]
         powers = sum(
-            exponential_integral(d.log_coeff + j * r.log_coeff, d.exponent + j * r.exponent, lo, hi)
+            exponential_integral(d.log_coeff[i] + j * r.log_coeff[i], d.exponent[i] + j * r.exponent[i], lo, hi)
             for j in range(1, GEOMETRIC_TERMS + 1)
         )
-        if not series:
-            corrections.append(powers + _remainder_by_quadrature(d, r, lo, hi, quadrature))
-            continue
-        pole, log_coeff = poles[i], d.log_coeff - d.exponent * r.log_coeff / r.exponent
-        remainder = pole(r.log_coeff + r.exponent * hi, log_coeff) - pole(r.log_coeff + r.exponent * lo, log_coeff)
         # The integrand is positive: a difference below 0 is round-off between two nearly equal
         # ends, and an empty interval is exactly 0 (its ends may even lie past the pole, where
         # a_min itself is beyond breakdown). Dividing by q last (not `- ln q` in the exponent)
         # ends the sum in a division, which XLA computes once and shares instead of copying the
         # polynomial work into every output that uses the stiffness (1.3x for a whole Solution).
-        corrections.append(powers + jnp.where(hi > lo, jnp.maximum(remainder, 0.0), 0.0) / r.exponent)
+        corrections.append(powers + jnp.where(hi > lo, jnp.maximum(remainder, 0.0), 0.0) / r.exponent[i])
     return corrections
-
-
-def _remainder_by_quadrature(density: PowerLaw, ratio: PowerLaw, lower, upper, quadrature: AbstractRowQuadrature):
-    """The remainder `C ∫ u^p/(1-u) du` of `paper_correction` by quadrature.
-
-    In `w = -ln(1-u)` it is `∫ C u^p dw`: bounded and smooth, over an interval that grows only
-    like `-ln(1 - r_max)` as the pole approaches. `pole_integral` does the same integral exactly;
-    this is its cross-check and the accuracy study's quadrature knob.
-    """
-    d_log, d_rate, r_log, r_rate = density.log_coeff, density.exponent, ratio.log_coeff, ratio.exponent
-    # u < 1 inside every interval the caller keeps; an empty one may lie past the pole (a_min
-    # beyond breakdown), and is clamped there so that its zero length still gives exactly 0.
-    below_pole = -float(jnp.finfo(lower.dtype).eps)
-    w_lo = -jnp.log1p(-jnp.exp(jnp.minimum(r_log + r_rate * lower, below_pole)))
-    w_hi = -jnp.log1p(-jnp.exp(jnp.minimum(r_log + r_rate * upper, below_pole)))
-    log_coeff = d_log - d_rate * r_log / r_rate - jnp.log(r_rate)
-    power = d_rate / r_rate + GEOMETRIC_TERMS
-    tiny = float(jnp.finfo(lower.dtype).tiny)
-
-    def remainder(w, log_coeff, power):
-        # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the floor
-        # gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would stop XLA from
-        # vectorising the loop.
-        u = jnp.maximum(-jnp.expm1(-w), tiny)
-        return jnp.exp(log_coeff + power * jnp.log(u))
-
-    return quadrature.integrate_rows(remainder, (log_coeff, power), w_lo, w_hi)

@@ -9,12 +9,15 @@ from __future__ import annotations
 
 import abc
 import functools
+import typing
 from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Float
 
+from .pole_integral import PoleIntegral
 from .validate import InputError
 
 
@@ -42,18 +45,34 @@ def integrate_log_area(integrand, log_lower, log_upper, nodes: int):
 
 
 class AbstractQuadrature(eqx.Module):
-    """How the interaction part of the stiffness (the one integral without a closed form) is done."""
+    """How the interaction part of the stiffness (the one integral without a closed form) is done.
+
+    Every quadrature does the pole integral of the "paper" interaction (`pole_integrals`); the row
+    quadratures (`AbstractRowQuadrature`) also do any smooth integrand (`integrate_rows`).
+    """
 
     name: eqx.AbstractClassVar[str]
 
+    @abc.abstractmethod
+    def pole_integrals(
+        self, power: Float[Array, " rows"], log_coeff, log_u_lower, log_u_upper
+    ) -> list[Float[Array, ""]]:
+        """`e^log_coeff ∫ u^power / (1 - u) du` from `u_lower` to `u_upper` (`u < 1`, `power ≥ 2`),
+        one scalar per row, each computed as its own chain of operations (`interaction_integral`)."""
+
 
 class PowerSeries(AbstractQuadrature):
-    """No nodes: the "paper" interaction's pole term summed to round-off (`pole_integral`).
-
-    Applies to `PaperInteraction` only (its integrand is `r/(1-r)`).
-    """
+    """No nodes: the pole integral summed to round-off (`pole_integral`). The "paper" interaction's
+    default; it does no other integral, so the "series" interaction cannot take it."""
 
     name: ClassVar[str] = "power-series"
+
+    def pole_integrals(self, power, log_coeff, log_u_lower, log_u_upper):
+        poles = PoleIntegral.build(power)
+        return [
+            poles[i](log_u_upper[i], log_coeff[i]) - poles[i](log_u_lower[i], log_coeff[i])
+            for i in range(power.shape[0])
+        ]
 
 
 class AbstractRowQuadrature(AbstractQuadrature):
@@ -69,6 +88,31 @@ class AbstractRowQuadrature(AbstractQuadrature):
         - `row_args`: tuple of arrays with one entry per row (the regime's coefficients).
         - `log_lower`, `log_upper`: the rows' bounds; an empty interval gives 0.
         """
+
+    @typing.final
+    def pole_integrals(self, power, log_coeff, log_u_lower, log_u_upper):
+        """By this rule in `w = -ln(1 - u)`, where the integral is `∫ e^log_coeff u^power dw`: bounded
+        and smooth, over an interval that grows only like `-ln(1 - u_max)` as the pole approaches.
+        The power series does the same integral exactly; this is its cross-check and the accuracy
+        study's quadrature knob."""
+        # u < 1 inside every interval the caller keeps; an empty one may lie past the pole (a_min
+        # beyond breakdown), and is clamped there so that its zero length still gives exactly 0.
+        below_pole = -float(jnp.finfo(log_u_lower.dtype).eps)
+        tiny = float(jnp.finfo(log_u_lower.dtype).tiny)
+
+        def integrand(w, log_coeff, power):
+            # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the floor
+            # gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would stop XLA
+            # from vectorising the loop.
+            u = jnp.maximum(-jnp.expm1(-w), tiny)
+            return jnp.exp(log_coeff + power * jnp.log(u))
+
+        w_lower = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_lower, below_pole)))
+        w_upper = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_upper, below_pole)))
+        return [
+            self.integrate_rows(integrand, (log_coeff[i], power[i]), w_lower[i], w_upper[i])
+            for i in range(power.shape[0])
+        ]
 
 
 class GaussLegendre(AbstractRowQuadrature):

@@ -11,6 +11,7 @@ both faster and more accurate) are marked, and so is the default.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 
 import jax
@@ -19,6 +20,7 @@ import numpy as np
 from ..core.loadcontrol import solve
 from ..core.scales import Scales
 from ..core.scene import Scene
+from ..core.settings import NewtonBisection
 from ..numerics.compat import x64
 from . import reference
 from .bench import best_of
@@ -29,9 +31,12 @@ ERROR_POINTS = 12
 
 @dataclasses.dataclass
 class Knob:
+    """One setting of the study: the model's options by name (`Scene.with_model`), the solver, float32."""
+
     label: str
     group: str
-    settings: dict
+    options: dict
+    solver: NewtonBisection = NewtonBisection()
     float32: bool = False
     default: bool = False
 
@@ -56,7 +61,7 @@ def knobs(quick: bool = False) -> list[Knob]:
         for tol in (1e-4, 1e-8, 1e-12)
     ]
     out += [
-        Knob(f"solver tolerance {tol:g}", "a_l solver tolerance", dict(solver_tolerance=tol))
+        Knob(f"solver tolerance {tol:g}", "a_l solver tolerance", {}, NewtonBisection(tolerance=tol))
         for tol in (1e-3, 1e-5, 1e-7, 1e-9)
     ]
     out += [Knob("float32 (default settings)", "precision", {}, float32=True)]
@@ -92,10 +97,10 @@ def study(scene: Scene, F_star_range=(1e-7, 9.81e-4), quick: bool = False, progr
     rows = []
     items = knobs(quick)
     for knob in items if progress is None else progress(items):
-        variant = scene.with_options(**knob.settings)
+        variant = scene.with_model("xia2024", interaction=scene.model.interaction.name, **knob.options)
         with x64(not knob.float32):
             F = loads.astype(np.float32 if knob.float32 else np.float64)
-            run = jax.jit(solve)
+            run = jax.jit(functools.partial(solve, solver=knob.solver))
             t = time.perf_counter()
             K = np.asarray(jax.block_until_ready(run(variant, F)).stiffness, dtype=float)
             compile_s = time.perf_counter() - t

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-# Each model, by the label the tables use, and its options for `Scene.with_options`.
+# Each model, by the label the tables use, and its name and options for `Scene.with_model`.
 COMPARED = {
     "xia2024 paper": dict(model="xia2024", interaction="paper"),
     "xia2024 series": dict(model="xia2024", interaction="series"),
@@ -81,10 +81,13 @@ class Comparison:
 def model_curves(scene, loads, models=COMPARED) -> dict:
     """Each model's K(F) on the scene's surface and material: label → (stiffness, status)."""
     from ..core.loadcontrol import solve
+    from ..core.settings import Outputs
 
     curves = {}
     for label, options in models.items():
-        solution = solve(scene.with_options(**options, regime_shares=False), np.asarray(loads, dtype=float))
+        solution = solve(
+            scene.with_model(**options), np.asarray(loads, dtype=float), outputs=Outputs(regime_shares=False)
+        )
         curves[label] = (np.asarray(solution.stiffness), np.asarray(solution.status))
     return curves
 
@@ -98,7 +101,7 @@ def loads_for_fractions(scene, fractions) -> np.ndarray:
 
     unit = float(scene.material.E) * float(scene.area)
     probe = 1e-6
-    area = float(solve(scene.with_options(model="persson"), probe * unit).real_area) / float(scene.area)
+    area = float(solve(scene.with_model("persson"), probe * unit).real_area) / float(scene.area)
     w1 = float(erfinv(area)) / probe
     return np.array([erfinv(f) / w1 * unit for f in fractions])
 

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import mpmath as mp
 
-from ..registry import INTERACTIONS
+# ω = ξ + sign · σ (MODEL.md §3), written here again: an oracle shares nothing with what it checks.
+SIGNS = {"none": 0, "paper": -1, "series": 1}
+
 
 M1 = mp.mpf("1.425") / mp.mpf("1.136")
 M2 = mp.mpf("1.263") / mp.mpf("1.146")
@@ -67,7 +69,7 @@ def stiffness(D, G, E, nu, H, area, l_min, load, interaction="paper", dps=30):
         a_l = mp.e**log_a_l
         n_coeff = D / 2 * a_l ** (D / 2)
         xi_slope = G ** (D - 1) * (2 - D) / 2  # ξ'(a) = xi_slope a^(-D/2)
-        sign = INTERACTIONS[interaction].sign
+        sign = SIGNS[interaction]
         pressure = load / area
         K = mp.mpf(0)
         for i, (c, m) in enumerate(laws[:3]):
