@@ -17,7 +17,7 @@ from jaxtyping import Array, Float
 from jaxcontact import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from jaxcontact.models.load_pieces import GenericLoadPieces
 from jaxcontact.numerics.powerlaw import PowerLaw
-from jaxcontact.physics.asperity import regime_load_laws
+from jaxcontact.physics.asperity import kogut_etsion_laws
 from jaxcontact.physics.distribution import size_distribution
 
 
@@ -28,7 +28,7 @@ class AllElastic(AbstractLargestSpotModel):
     regimes: ClassVar[tuple[str, ...]] = ("e",)
 
     def joint(self, s):
-        laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        laws, _ = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)
         return AllElasticJoint(D=s.D, log_a_min=s.log_a_min, load_law=laws[0])
 
 

@@ -13,7 +13,6 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
 from ..numerics.compat import namespace
-from ..physics.asperity import hardness_coefficient, log_critical_area
 
 
 class Scales(eqx.Module):
@@ -48,15 +47,15 @@ class Scales(eqx.Module):
 class DimensionlessScene(eqx.Module):
     """Scale-free inputs of one scene, common to every model.
 
-    **Fields:** `D`; `log_G` = ln G*; `log_hardness` = ln(H/E); `kappa` = κ;
-    `log_a_c` = ln a_c* (Eq. 7); `log_a_min` = ln(l_min²/A_a).
+    **Fields:** `D`; `log_G` = ln G*; `log_hardness` = ln(H/E); `nu` = ν; `log_a_min` =
+    ln(l_min²/A_a). What a model derives from them (the Kogut–Etsion a_c, the PSD's moments) it
+    derives itself (`physics.asperity.kogut_etsion_laws`, `physics.spectrum`).
     """
 
     D: Float[Array, ""]
     log_G: Float[Array, ""]
     log_hardness: Float[Array, ""]
-    kappa: Float[Array, ""]
-    log_a_c: Float[Array, ""]
+    nu: Float[Array, ""]
     log_a_min: Float[Array, ""]
 
 
@@ -66,14 +65,10 @@ def nondimensionalise(scene) -> DimensionlessScene:
     D = jnp.asarray(s.D)
     log_sqrt_area = 0.5 * jnp.log(scene.area)
     log_G = jnp.log(s.G) - log_sqrt_area
-    log_hardness = jnp.log(m.H) - jnp.log(m.E)
-    kappa = hardness_coefficient(jnp.asarray(m.nu))
-    log_phi = jnp.log(kappa / 2.0) + log_hardness  # φ = κH/(2E)
     return DimensionlessScene(
         D=D,
         log_G=log_G,
-        log_hardness=log_hardness,
-        kappa=kappa,
-        log_a_c=log_critical_area(D, log_G, log_phi),
+        log_hardness=jnp.log(m.H) - jnp.log(m.E),
+        nu=jnp.asarray(m.nu),
         log_a_min=2.0 * (jnp.log(s.l_min) - log_sqrt_area),
     )

@@ -15,7 +15,7 @@ from jaxtyping import Array, Float
 from ..core.scales import DimensionlessScene
 from ..numerics.powerlaw import PowerLaw
 from ..numerics.validate import check_instance
-from ..physics.asperity import regime_load_laws
+from ..physics.asperity import kogut_etsion_laws
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
 from ..physics.spot_stiffness import hertz_stiffness
 from .base import AbstractJoint, AbstractLargestSpotModel, JointResponse
@@ -37,11 +37,11 @@ class JZZ2010(AbstractLargestSpotModel):
         check_instance("distribution", self.distribution, AbstractDistribution)
 
     def joint(self, s: DimensionlessScene) -> JZZ2010Joint:
-        laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        laws, log_a_c = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)
         return JZZ2010Joint(
             D=s.D,
             log_a_min=s.log_a_min,
-            log_a_c=s.log_a_c,
+            log_a_c=log_a_c,
             log_hardness=s.log_hardness,
             log_density=self.distribution.log_scale(s.D),
             elastic_law=PowerLaw(laws.log_coeff[0], laws.exponent[0]),

@@ -23,7 +23,7 @@ from jaxtyping import Array, Float
 from ..core.scales import DimensionlessScene
 from ..numerics.powerlaw import PowerLaw
 from ..numerics.validate import check_instance
-from ..physics.asperity import interference, regime_edges, regime_load_laws
+from ..physics.asperity import interference, kogut_etsion_laws, regime_edges
 from ..physics.distribution import AbstractDistribution, MajumdarBhushan, size_distribution
 from ..physics.interaction import AbstractInteraction, PaperInteraction
 from ..physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative
@@ -62,13 +62,13 @@ class Xia2024(AbstractLargestSpotModel):
         check_instance("spot_stiffness", self.spot_stiffness, AbstractSpotStiffness)
 
     def joint(self, s: DimensionlessScene) -> Xia2024Joint:
-        load_laws = regime_load_laws(s.D, s.log_G, s.log_hardness, s.kappa, s.log_a_c)
+        load_laws, log_a_c = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)
         interference_law = interference(s.D, s.log_G)
         return Xia2024Joint(
             D=s.D,
             log_a_min=s.log_a_min,
             log_density=self.distribution.log_scale(s.D),
-            edges=regime_edges(s.log_a_c),
+            edges=regime_edges(log_a_c),
             load_laws=load_laws,
             interference_law=interference_law,
             spot_law=self.spot_stiffness.law(load_laws, interference_law),

@@ -38,6 +38,14 @@ def log_critical_area(D, log_G, log_phi):
     return 2.0 * log_G + 2.0 * log_phi / (1.0 - D)
 
 
+def kogut_etsion_laws(D, log_G, log_hardness, nu) -> tuple[PowerLaw, object]:
+    """The four regimes' load laws (`regime_load_laws`) of a surface and material, and `ln a_c*`
+    (Eq. 7, with `κ` of Eq. 6): what a Kogut–Etsion model needs of the dimensionless scene."""
+    kappa = hardness_coefficient(jnp.asarray(nu))
+    log_a_c = log_critical_area(D, log_G, jnp.log(kappa / 2.0) + log_hardness)  # φ = κH/(2E)
+    return regime_load_laws(D, log_G, log_hardness, kappa, log_a_c), log_a_c
+
+
 def interference(D, log_G) -> PowerLaw:
     """Total deformation (interference) of an asperity, Eq. (21): `ξ(a) = G^(D-1) a^((2-D)/2)`."""
     return PowerLaw(jnp.asarray((D - 1.0) * log_G), jnp.asarray((2.0 - D) / 2.0))
