@@ -4,11 +4,11 @@
 estimates, standard errors, 95 % intervals, correlations and identifiability warnings.
 """
 
-from .data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
-from .fit import METHODS, FitResult, fit, model_stiffness, starting_points
-from .parameters import PARAMETERS, FitParameter, resolve
-from .residuals import FLAGGED_RESIDUAL, log_residuals
-from .resonance import fit_resonance
+from ._data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
+from ._fit import METHODS, FitResult, fit, model_stiffness, starting_points
+from ._parameters import PARAMETERS, FitParameter, resolve
+from ._residuals import FLAGGED_RESIDUAL, log_residuals
+from ._resonance import fit_resonance
 
 __all__ = [
     "fit",

@@ -1,84 +1,97 @@
 """jaxcontact: differentiable normal contact stiffness of rough mechanical joints.
 
-The fractal model of Xia, Qu & Liu (Aerospace 11, 472, 2024) as specified in MODEL.md:
-Kogut–Etsion asperity regimes over a Majumdar–Bhushan size distribution, with interaction
-between asperities, solved under load control and differentiable end to end; and the models to
-compare it with, chosen by passing them (`Scene(..., model=JZZ2010())`).
+The fractal model of Xia, Qu & Liu (Aerospace 11, 472, 2024) (docs/model.md): Kogut–Etsion
+asperity regimes over a Majumdar–Bhushan size distribution, with interaction between asperities,
+solved under load control and differentiable end to end; and the models to compare it with,
+chosen by passing them (`Scene(..., model=JZZ2010())`).
 
 The package never enables float64 itself: call `jax.config.update("jax_enable_x64", True)`
-for double precision (the command line does).
+for double precision (the command line does). Its public names are listed in
+docs/architecture.md; the subpackages (`jaxcontact.models`, `jaxcontact.physics`,
+`jaxcontact.numerics`, ...) export the pieces a new model is built from.
 """
 
-from .core.defaults import table1_scene
-from .core.domain import PARAMETERS, ParameterSpec
-from .core.loadcontrol import point_solver, solve
-from .core.parameters import Material, Surface
-from .core.scales import DimensionlessScene, Scales, nondimensionalise
-from .core.scene import Scene, stack_scenes
-from .core.settings import NewtonBisection, Outputs
-from .core.solution import Solution
-from .core.status import Status, status_message
-from .models.base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
-from .models.greenwood_williamson import GreenwoodWilliamson
-from .models.jzz2010 import JZZ2010
-from .models.persson import Persson
-from .models.xia2024 import Xia2024
-from .numerics.quadrature import AbstractQuadrature, Adaptive, GaussLegendre, PowerSeries
-from .numerics.validate import InputError, JaxcontactWarning, MissingExtraError, PlausibilityWarning
-from .physics.distribution import AbstractDistribution, MajumdarBhushan, WangKomvopoulos, wang_komvopoulos_psi
-from .physics.interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction
-from .physics.spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon
-from .registry import (
+from .core import NewtonBisection, Outputs, Scene, Solution, solve, stack_scenes, table1_scene
+from .models import (
     DISTRIBUTIONS,
     INTERACTIONS,
+    JZZ2010,
     MODELS,
     QUADRATURES,
     SPOT_STIFFNESSES,
+    AbstractContactModel,
+    AbstractJoint,
+    AbstractLargestSpotModel,
+    AbstractLoadPieces,
+    GenericLoadPieces,
+    GreenwoodWilliamson,
+    JointResponse,
+    Persson,
+    PointResult,
+    Xia2024,
     build_model,
     register_model,
 )
+from .numerics import (
+    AbstractQuadrature,
+    AbstractRowQuadrature,
+    Adaptive,
+    GaussLegendre,
+    InputError,
+    JaxcontactWarning,
+    MissingExtraError,
+    PlausibilityWarning,
+    PowerLaw,
+    PowerSeries,
+    solve_increasing,
+)
+from .physics import (
+    AbstractDistribution,
+    AbstractInteraction,
+    AbstractSpotStiffness,
+    FamilyDerivative,
+    MajumdarBhushan,
+    NoInteraction,
+    PaperInteraction,
+    SeriesInteraction,
+    Sneddon,
+    WangKomvopoulos,
+    hertz_stiffness,
+    kogut_etsion_laws,
+    size_distribution,
+)
+from .quantities import PARAMETERS, DimensionlessScene, Material, ParameterSpec, Scales, Status, Surface, status_message
+
+__version__ = "0.5.0"
+
+# The applications that integrate with diffrax, imported when first used (`jaxcontact.applications`).
+_LAZY = ("Approach", "Drive", "approach", "frequency_response", "resonance_frequency", "simulate", "steady_amplitude")
 
 __all__ = [
+    # The joint and its solve
     "Surface",
     "Material",
     "Scene",
+    "stack_scenes",
+    "table1_scene",
+    "solve",
+    "Outputs",
+    "NewtonBisection",
     "Solution",
-    "InputError",
-    "MissingExtraError",
-    "JaxcontactWarning",
-    "PlausibilityWarning",
     "Status",
     "status_message",
     "Scales",
     "PARAMETERS",
     "ParameterSpec",
-    "table1_scene",
-    "stack_scenes",
-    "solve",
-    "Outputs",
-    "NewtonBisection",
-    "point_solver",
-    "approach",
-    "Approach",
-    "Drive",
-    "simulate",
-    "steady_amplitude",
-    "frequency_response",
-    "resonance_frequency",
-    "AbstractContactModel",
-    "AbstractLargestSpotModel",
-    "AbstractJoint",
-    "JointResponse",
-    "PointResult",
-    "DimensionlessScene",
-    "nondimensionalise",
+    "InputError",
+    "MissingExtraError",
+    "JaxcontactWarning",
+    "PlausibilityWarning",
+    # Models and their choices
     "Xia2024",
     "JZZ2010",
     "GreenwoodWilliamson",
     "Persson",
-    "AbstractSpotStiffness",
-    "FamilyDerivative",
-    "Sneddon",
     "AbstractInteraction",
     "NoInteraction",
     "PaperInteraction",
@@ -86,8 +99,11 @@ __all__ = [
     "AbstractDistribution",
     "MajumdarBhushan",
     "WangKomvopoulos",
-    "wang_komvopoulos_psi",
+    "AbstractSpotStiffness",
+    "FamilyDerivative",
+    "Sneddon",
     "AbstractQuadrature",
+    "AbstractRowQuadrature",
     "PowerSeries",
     "GaussLegendre",
     "Adaptive",
@@ -98,28 +114,30 @@ __all__ = [
     "SPOT_STIFFNESSES",
     "build_model",
     "register_model",
+    # What a new model is built from
+    "AbstractContactModel",
+    "AbstractLargestSpotModel",
+    "AbstractJoint",
+    "AbstractLoadPieces",
+    "GenericLoadPieces",
+    "JointResponse",
+    "PointResult",
+    "DimensionlessScene",
+    "PowerLaw",
+    "kogut_etsion_laws",
+    "size_distribution",
+    "hertz_stiffness",
+    "solve_increasing",
+    # Built on the stiffness
+    *_LAZY,
 ]
-__version__ = "0.4.0"
-
-# The applications that integrate with diffrax are imported when first used: diffrax's import
-# (0.2 s beyond the equinox and optimistix that `solve` needs anyway) is not needed by `solve`
-# or the command line's `run`.
-_LAZY = {
-    "Drive": "dynamics",
-    "frequency_response": "dynamics",
-    "resonance_frequency": "dynamics",
-    "simulate": "dynamics",
-    "steady_amplitude": "dynamics",
-    "Approach": "loadapproach",
-    "approach": "loadapproach",
-}
 
 
 def __getattr__(name):
     if name in _LAZY:
-        import importlib
+        from . import applications
 
-        value = getattr(importlib.import_module(f".applications.{_LAZY[name]}", __name__), name)
+        value = getattr(applications, name)
         globals()[name] = value
         return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

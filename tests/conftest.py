@@ -43,6 +43,8 @@ import equinox as eqx  # noqa: E402
 import pytest  # noqa: E402
 
 import jaxcontact as jc  # noqa: E402
+from jaxcontact.core import table1_values  # noqa: E402
+from jaxcontact.quantities import nondimensionalise  # noqa: E402
 
 # Whole files go to the two workers in this order, the longest (measured) first, so that the
 # workers finish together: xdist's own order (most tests first) left a few long files of few
@@ -82,7 +84,7 @@ needs_shared = pytest.mark.skipif(
 )
 
 # MODEL.md §7: Table 1 grinding surface with the paper's material values (the embedded default scene).
-TABLE1 = jc.core.defaults.table1_values()
+TABLE1 = table1_values()
 # Sec. 5.1 material (Figs. 3–6).
 SEC51 = dict(E=210e9, nu=0.3, H=120e9, area=1e-4, l_min=1e-9)
 # MODEL.md §10's surface for the comparators and the boundary-element reference: L = 100 µm,
@@ -98,7 +100,7 @@ def make_scene(D, G, E, nu, H, area, l_min, model="xia2024", **options):
 
 def make_joint(scene):
     """The dimensionless joint that the scene's (largest-spot) model solves."""
-    return scene.model.joint(jc.nondimensionalise(scene))
+    return scene.model.joint(nondimensionalise(scene))
 
 
 # Every float field of a scene, for differentiating with respect to all of them at once.
@@ -133,7 +135,7 @@ def dynamics_scene():
     """The embedded scene of `jaxcontact approach` and `jaxcontact dynamics` (Table 1, "paper",
     as the commands read it: the library's tests of the approach and the
     dynamics use it, so that the commands' tests beside them reuse their compiled programs."""
-    from jaxcontact.cli.scenefile import DYNAMICS_SCENE, load_scene
+    from jaxcontact.cli._scenefile import DYNAMICS_SCENE, load_scene
 
     return load_scene(None, default=DYNAMICS_SCENE).scene
 

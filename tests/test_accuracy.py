@@ -5,8 +5,8 @@ import csv
 import numpy as np
 from conftest import CHECKPOINTS, TABLE1, make_scene, needs_shared
 
-from jaxcontact.studies import reference
-from jaxcontact.studies.accuracy import _dominates, study
+from jaxcontact.studies import _reference as reference
+from jaxcontact.studies._accuracy import _dominates, study
 
 
 @needs_shared

@@ -67,7 +67,7 @@ def test_monotone_in_load(dynamics_scene):
 
 
 def test_one_seven_and_thirty_loads_share_one_compiled_approach(dynamics_scene):
-    from jaxcontact.applications.loadapproach import _approach
+    from jaxcontact.applications._loadapproach import _approach
 
     before = _approach._cached._cache_size()
     loads = np.geomspace(2.2, 2200.0, 30)
@@ -153,8 +153,8 @@ def test_bad_reference_load(table1_scene):
 
 
 def test_where_programs_are_kept_a_later_call_reads_the_approach_untraced(dynamics_scene, tmp_path, monkeypatch):
-    from jaxcontact.applications import loadapproach
-    from jaxcontact.core import exported
+    from jaxcontact.applications import _loadapproach as loadapproach
+    from jaxcontact.programs import _exported as exported
 
     traced = []
 
@@ -177,7 +177,7 @@ def test_while_equinox_checks_through_host_callbacks_the_approach_is_not_exporte
     dynamics_scene, tmp_path, monkeypatch
 ):
     """No exported program can hold a host callback: tracing the solve to export it would be for nothing."""
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     monkeypatch.setattr("equinox._errors.EQX_ON_ERROR", "raise")
     with exported.exported_programs(tmp_path):

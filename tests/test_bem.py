@@ -88,7 +88,7 @@ def test_results_are_read_back_from_the_cache(tmp_path, monkeypatch):
     def no_solve(*args):
         raise AssertionError("solved again")
 
-    monkeypatch.setattr(bem.solver, "_one_load", no_solve)
+    monkeypatch.setattr(bem._solver, "_one_load", no_solve)
     again = bem.bem_stiffness(surface, E, [1e-4 * UNIT_LOAD], cache=cache)
     np.testing.assert_array_equal(again.stiffness, first.stiffness)
 

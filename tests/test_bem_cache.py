@@ -70,7 +70,7 @@ def test_an_entry_copied_over_another_is_recomputed(solved, cache):
 
 def _rewrite_row(path, **row):
     """An entry with a consistent checksum but the given fields in its result."""
-    from jaxcontact.bem.cache import _digest
+    from jaxcontact.bem._cache import _digest
 
     entry = json.loads(path.read_text())
     entry["row"].update(row)

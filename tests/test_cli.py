@@ -102,7 +102,7 @@ def test_main_restores_the_callers_jax_settings(tmp_path, capsys):
 def test_matplotlib_is_imported_once_a_compilation_begins_not_before():
     import jax.monitoring
 
-    from jaxcontact.cli.main import plotting_imported_while_compiling
+    from jaxcontact.cli._main import plotting_imported_while_compiling
 
     with plotting_imported_while_compiling() as thread:
         thread.join(0.2)
@@ -115,7 +115,7 @@ def test_matplotlib_is_imported_once_a_compilation_begins_not_before():
 def test_the_background_import_leaves_no_listener_behind():
     from jax._src import monitoring
 
-    from jaxcontact.cli.main import plotting_imported_while_compiling
+    from jaxcontact.cli._main import plotting_imported_while_compiling
 
     before = list(monitoring._event_duration_secs_listeners)
     with plotting_imported_while_compiling():
@@ -125,7 +125,7 @@ def test_the_background_import_leaves_no_listener_behind():
 
 _DIFFRAX_PROGRAM = """
 import diffrax, jax, jax.numpy as jnp
-from jaxcontact.numerics.compat import avoid_host_callbacks_in_checks
+from jaxcontact.numerics._compat import avoid_host_callbacks_in_checks
 def solve(t1):
     saveat = diffrax.SaveAt(ts=jnp.linspace(0.0, 1.0, 3) * t1)
     controller = diffrax.PIDController(rtol=1e-6, atol=1e-9)
@@ -209,7 +209,7 @@ def test_console_script_output_through_a_pipe_is_complete(tmp_path):
 
 
 def test_log_axes_are_labelled_with_decades_in_plain_text(tmp_path):
-    from jaxcontact.cli.plots import save_figure, subplots
+    from jaxcontact.cli._plots import save_figure, subplots
 
     fig, ax = subplots()
     ax.loglog([1e-7, 1e-4], [1.0, 10.0])
@@ -219,7 +219,7 @@ def test_log_axes_are_labelled_with_decades_in_plain_text(tmp_path):
 
 
 def test_figures(tmp_path, capsys, monkeypatch):
-    from jaxcontact.studies import figures
+    from jaxcontact.studies import _figures as figures
 
     drawn = []
     save = figures.save_figure
@@ -272,7 +272,7 @@ def test_a_run_where_every_load_is_flagged_says_so(tmp_path, capsys):
 
 
 def test_flagged_loads_are_marked_on_the_load_axis_not_drawn_as_values(tmp_path, monkeypatch):
-    from jaxcontact.cli import plots
+    from jaxcontact.cli import _plots as plots
 
     figures = []
     monkeypatch.setattr(plots, "save_figure", lambda fig, path: figures.append(fig) or str(path))
@@ -291,7 +291,7 @@ def test_a_zero_stiffness_is_marked_on_the_load_axis_not_drawn_on_the_log_axis(t
 
     import equinox as eqx
 
-    from jaxcontact.cli import plots
+    from jaxcontact.cli import _plots as plots
 
     figures = []
     monkeypatch.setattr(plots, "save_figure", lambda fig, path: figures.append(fig) or str(path))
@@ -318,7 +318,7 @@ def test_version(capsys):
 
 def test_an_internal_error_is_not_reported_as_a_user_mistake(tmp_path, capsys, monkeypatch):
     """A bug (here a numpy broadcasting error inside the run) says so, with its traceback; exit 70."""
-    from jaxcontact.cli import report
+    from jaxcontact.cli import _report as report
 
     def broken(*args, **kwargs):
         raise ValueError("operands could not be broadcast together with shapes (4097,) (2,)")
@@ -332,7 +332,8 @@ def test_an_internal_error_is_not_reported_as_a_user_mistake(tmp_path, capsys, m
 
 def test_bench_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     """`bench --out` leaves the report (text and JSON, with the scene) where it was asked to."""
-    from jaxcontact.studies import bench, bench_report
+    from jaxcontact.studies import _bench as bench
+    from jaxcontact.studies import _bench_report as bench_report
 
     monkeypatch.setattr(bench, "run_all", lambda scene, progress=None: {"curve": {"speedup": 1234.0}})
     monkeypatch.setattr(bench_report, "format_results", lambda results: "200-load curve: 1234x")
@@ -348,7 +349,8 @@ def test_bench_compiles_without_the_persistent_cache(tmp_path, capsys, monkeypat
     """The bench's compile times are compilations, not reads of `JAXCONTACT_CACHE`."""
     import jax
 
-    from jaxcontact.studies import bench, bench_report
+    from jaxcontact.studies import _bench as bench
+    from jaxcontact.studies import _bench_report as bench_report
 
     seen = []
     monkeypatch.setenv("JAXCONTACT_CACHE", str(tmp_path / "cache"))
@@ -378,7 +380,7 @@ def test_approach_refuses_a_preload_outside_the_model(tmp_path, capsys):
 def test_the_fit_figure_shows_the_values_their_intervals_and_the_residuals():
     from types import SimpleNamespace
 
-    from jaxcontact.cli.plots import fit_figure
+    from jaxcontact.cli._plots import fit_figure
 
     loads = np.geomspace(1.0, 100.0, 5)
     result = SimpleNamespace(
@@ -417,7 +419,7 @@ def test_values_in_the_wrong_unit_are_warned_about(tmp_path, capsys):
 
 
 def test_the_table_says_why_a_stiffness_is_zero():
-    from jaxcontact.cli.report import format_table
+    from jaxcontact.cli._report import format_table
 
     row = dict(F_N=1.0, F_star=1e-6, a_l_m2=1e-10, K_N_per_m=0.0, K_star=0.0, status="ok", fully_plastic=True)
     assert format_table([row]).splitlines()[1].endswith("ok (K = 0: every spot plastic)")

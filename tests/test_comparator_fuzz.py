@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from test_properties import SETTINGS, scene_of, valid
 
 import jaxcontact as jc
-from jaxcontact.numerics.compat import x64
+from jaxcontact.numerics import x64
 
 # The valid domain reaches hardnesses that look like unit mistakes (H > 1e11 Pa): expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::jaxcontact.PlausibilityWarning")

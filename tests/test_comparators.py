@@ -9,9 +9,10 @@ from conftest import BEM_L, BEM_SETTING, TABLE1, make_scene
 from scipy import integrate, optimize, special
 
 import jaxcontact as jc
-from jaxcontact.models.greenwood_williamson import log_tail_moment
-from jaxcontact.physics.spectrum import profile_moments
-from jaxcontact.topography.conventions import areal_prefactor
+from jaxcontact.models._greenwood_williamson import log_tail_moment
+from jaxcontact.physics._spectrum import profile_moments
+from jaxcontact.quantities import nondimensionalise
+from jaxcontact.topography import areal_prefactor
 
 L = BEM_L
 
@@ -40,7 +41,7 @@ def test_spectral_moments_are_the_power_law_psd_integrals(index, power):
     """m0, m2, m4 (SI) against the integrals of C2D = C0 q^-(6-2D) by quadrature, with the
     directional averages 1, 1/2, 3/8 of a line scan of an isotropic surface."""
     v = BEM_SETTING
-    s = jc.nondimensionalise(make_scene(**v))
+    s = nondimensionalise(make_scene(**v))
     moment = float(profile_moments(s.D, s.log_G, s.log_a_min)[index]) * L ** (2 - 2 * index)
     expected = psd_moment_by_quadrature(v, power) * (1.0, 0.5, 3.0 / 8.0)[index]
     np.testing.assert_allclose(moment, expected, rtol=1e-10)
@@ -51,7 +52,7 @@ def test_rms_slope_of_the_moments_matches_synthesised_surfaces():
     from jaxcontact.bem import synthesised_surface
 
     v = BEM_SETTING
-    s = jc.nondimensionalise(make_scene(**v))
+    s = nondimensionalise(make_scene(**v))
     predicted = math.sqrt(2 * float(profile_moments(s.D, s.log_G, s.log_a_min)[1]))
     measured = []
     for seed in range(3):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from jaxcontact.cli import main
-from jaxcontact.topography import synthesis
+from jaxcontact.topography import _synthesis as synthesis
 
 pytest.importorskip("ContactMechanics")
 

@@ -16,7 +16,7 @@ from scipy import integrate, optimize
 from toy_model import AllElastic
 
 import jaxcontact as jc
-from jaxcontact.numerics.compat import x64
+from jaxcontact.numerics import x64
 
 jc.register_model(AllElastic)
 

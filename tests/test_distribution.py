@@ -8,7 +8,7 @@ import mpmath
 import numpy as np
 import pytest
 
-import jaxcontact as jc
+from jaxcontact.physics import wang_komvopoulos_psi
 
 mpmath.mp.dps = 30
 
@@ -26,7 +26,7 @@ D_GRID = np.concatenate([1 + np.geomspace(1e-9, 1e-2, 8), np.linspace(1.01, 1.99
 
 @pytest.fixture(scope="module")
 def psi_grid():
-    return np.asarray(jax.jit(jax.vmap(jc.wang_komvopoulos_psi))(jnp.asarray(D_GRID)))
+    return np.asarray(jax.jit(jax.vmap(wang_komvopoulos_psi))(jnp.asarray(D_GRID)))
 
 
 def test_psi_matches_mpmath_on_the_whole_range(psi_grid):
@@ -44,13 +44,13 @@ def test_psi_tends_to_the_closed_forms_at_the_ends(psi_grid):
 def test_psi_gradient_is_the_implicit_derivative():
     for D in (1.05, 1.4058, 1.5, 1.93, 1.9999):
         exact = float(mpmath.diff(psi_reference, D))
-        got = float(jax.grad(jc.wang_komvopoulos_psi)(jnp.asarray(D)))
+        got = float(jax.grad(wang_komvopoulos_psi)(jnp.asarray(D)))
         assert got == pytest.approx(exact, rel=1e-11), D
 
 
 def test_psi_in_float32():
     D = jnp.asarray([1.05, 1.4058, 1.93, 1.9999], jnp.float32)
-    got = jax.vmap(jc.wang_komvopoulos_psi)(D)
+    got = jax.vmap(wang_komvopoulos_psi)(D)
     assert got.dtype == jnp.float32
     reference = [float(psi_reference(float(d))) for d in D]
     np.testing.assert_allclose(np.asarray(got), reference, rtol=2e-6)

@@ -11,7 +11,7 @@ from conftest import ROOT, TABLE1, make_scene
 
 import fitting
 import jaxcontact as jc
-from jaxcontact.applications.dynamics import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
+from jaxcontact.applications import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
 from jaxcontact.cli import main
 
 MASS, PRELOAD = 1.0, 220.0

@@ -9,7 +9,7 @@ from conftest import ROOT, TABLE1, make_scene
 
 import fitting
 import jaxcontact as jc
-from fitting.synthetic import TABLE1_F_STAR, synthetic_curve, table1_generated
+from fitting._synthetic import TABLE1_F_STAR, synthetic_curve, table1_generated
 
 TRUTH = {"D": TABLE1["D"], "G": TABLE1["G"]}
 START = dict(TABLE1, D=1.55, G=1e-9)  # the scene handed to fit: wrong D and G
@@ -58,7 +58,7 @@ def test_bfgs_and_lm_agree_on_noisy_data(table1):
 def test_a_single_lm_start_converges(table1):
     """The bench's 30-point curve from one start: LM's default tolerance must sit above the
     round-off of its steps along the D–G valley (at 1e-12 it wandered for all 400 iterations)."""
-    from jaxcontact.studies.bench import _data
+    from jaxcontact.studies._bench import _data
 
     loads, K = _data(table1)
     result = fitting.fit(loads, K, make_scene(**dict(START, D=1.5)), method="lm", n_starts=1)
@@ -325,9 +325,9 @@ def test_lbfgs_is_an_alias_of_bfgs(table1):
 def test_the_optimisers_jacobian_matches_finite_differences(table1):
     """`∂r/∂u` as the optimisers see it: the model's forward-mode Jacobian in statistical
     coordinates times the reparameterisation's slope, against central differences in `u`."""
-    from fitting.fit import _padded_curve
-    from fitting.optimise import Objective
-    from jaxcontact.core.loadcontrol import prepare
+    from fitting._fit import _padded_curve
+    from fitting._optimise import Objective
+    from jaxcontact.core import prepare
 
     loads, K = table1_generated(table1)
     params = fitting.resolve(("D", "G"))

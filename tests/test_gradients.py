@@ -12,7 +12,7 @@ import pytest
 from conftest import GETTERS, PARAMS, TABLE1, make_joint, make_scene, total_loads, with_params
 
 import jaxcontact as jc
-from jaxcontact.physics.asperity import EP1_END, EP2_END
+from jaxcontact.physics._asperity import EP1_END, EP2_END
 
 
 @eqx.filter_jit

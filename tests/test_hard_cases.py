@@ -8,8 +8,8 @@ import pytest
 from conftest import GETTERS, PARAMS, TABLE1, make_joint, make_scene, masked_log_stiffness_sum, params_of, with_params
 
 import jaxcontact as jc
-from jaxcontact.numerics.compat import x64
-from jaxcontact.studies.scipy_baseline import BaselineParameters, solve_point
+from jaxcontact.numerics import x64
+from jaxcontact.studies._scipy_baseline import BaselineParameters, solve_point
 
 E, AREA = TABLE1["E"], TABLE1["area"]
 
@@ -224,7 +224,7 @@ def test_paper_interaction_stays_accurate_right_up_to_breakdown(D, G, E, nu, H):
     """The pole of 1/(1 - r) reaches the stiffness range at breakdown; K must stay exact up to it."""
     from scipy import optimize
 
-    from jaxcontact.studies import reference
+    from jaxcontact.studies import _reference as reference
 
     scene = make_scene(D, G, E, nu, H, 1e-4, 1e-9)
     log_breakdown = optimize.brentq(

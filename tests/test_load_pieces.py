@@ -8,8 +8,8 @@ import pytest
 from conftest import TABLE1, log_total_load_slopes, make_joint, make_scene, total_loads
 
 import jaxcontact as jc
-from jaxcontact.core.loadcontrol import prepare
-from jaxcontact.models.load_pieces import GenericLoadPieces, PowerLawLoadPieces
+from jaxcontact.core import prepare
+from jaxcontact.models import GenericLoadPieces, PowerLawLoadPieces
 
 
 @eqx.filter_jit

@@ -6,8 +6,8 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from jaxcontact.numerics.compat import x64
-from jaxcontact.numerics.pole_integral import PoleIntegral
+from jaxcontact.numerics import x64
+from jaxcontact.numerics._pole_integral import PoleIntegral
 
 # p = δ/q + 4 spans [2, 6] over D in (1, 2): 2 in the elastic regime, 4.2–5.9 in the others.
 POWERS = (2.0, 2.37, 4.4, 5.9)

@@ -6,7 +6,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from jaxcontact.numerics.powerlaw import PowerLaw, exponential_integral, mean_decay
+from jaxcontact.numerics._powerlaw import PowerLaw, exponential_integral, mean_decay
 
 
 def exact(log_c, rate, u, v):

@@ -11,7 +11,9 @@ import pytest
 from conftest import TABLE1, make_scene
 
 import jaxcontact as jc
-from jaxcontact.core import compiling, loadcontrol, programs
+from jaxcontact.core import _loadcontrol as loadcontrol
+from jaxcontact.programs import _compiling as compiling
+from jaxcontact.programs import _programs as programs
 
 
 def _compiled_lengths(scene, outputs, solver):
@@ -130,7 +132,7 @@ def _program_args():
 
 
 def test_an_exported_program_is_read_back_without_tracing(tmp_path):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     x, pair = _program_args()
     calls = []
@@ -147,7 +149,7 @@ def test_an_exported_program_is_read_back_without_tracing(tmp_path):
 
 
 def test_another_static_description_or_shape_is_another_exported_program(tmp_path):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     x, pair = _program_args()
     with exported.exported_programs(tmp_path):
@@ -158,7 +160,7 @@ def test_another_static_description_or_shape_is_another_exported_program(tmp_pat
 
 
 def test_an_unreadable_exported_program_is_traced_instead(tmp_path):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     x, pair = _program_args()
     with exported.exported_programs(tmp_path):
@@ -172,7 +174,7 @@ def test_an_unreadable_exported_program_is_traced_instead(tmp_path):
 
 
 def test_without_a_directory_nothing_is_written(tmp_path, monkeypatch):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     monkeypatch.chdir(tmp_path)
     x, pair = _program_args()
@@ -184,7 +186,7 @@ def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_progra
     """A model defined outside the package: editing its file must not read the old program."""
     import importlib
 
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     source = tmp_path / "outside_model.py"
     source.write_text("import equinox as eqx\n\n\nclass Outside(eqx.Module):\n    scale: float = 2.0\n")
@@ -201,7 +203,7 @@ def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_progra
 
 
 def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_path):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     # A configuration no other test uses, so that its program is not already traced here.
     scene = make_scene(**TABLE1, interaction="series", quadrature_nodes=19)
@@ -224,7 +226,7 @@ import logging, jax, numpy as np
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_log_compiles", True)
 import jaxcontact as jc
-from jaxcontact.core import exported
+from jaxcontact.programs import _exported as exported
 compiled = []
 class Names(logging.Handler):
     def emit(self, record):
@@ -247,7 +249,7 @@ print(",".join(compiled), repr(float(stiffness[7])))
 
 
 def test_a_kept_executable_that_fails_is_deleted_and_the_exported_program_used(tmp_path):
-    from jaxcontact.core import exported
+    from jaxcontact.programs import _exported as exported
 
     def broken(*args):
         raise RuntimeError("Function add_divide_fusion not found")
@@ -266,7 +268,7 @@ def test_the_command_lines_short_compile_solve_gives_the_default_compilations_nu
 import jax, numpy as np
 jax.config.update("jax_enable_x64", True)
 import jaxcontact as jc
-from jaxcontact.core import exported
+from jaxcontact.programs import _exported as exported
 scene, loads = jc.table1_scene(), np.geomspace(2.2, 22000.0, 41)  # the default scene's F* 1e-7 to 1e-3
 default = jc.solve(scene, loads)
 with exported.exported_programs({str(tmp_path)!r}):

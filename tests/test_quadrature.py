@@ -6,8 +6,8 @@ import pytest
 from conftest import TABLE1, make_joint, make_scene
 
 import jaxcontact as jc
-from jaxcontact.numerics.quadrature import integrate_log_area
-from jaxcontact.physics.interaction import stiffness_without_interaction
+from jaxcontact.numerics import integrate_log_area
+from jaxcontact.physics._interaction import stiffness_without_interaction
 
 
 @pytest.mark.parametrize("D", [1.01, 1.1, 1.25, 1.4058, 1.5, 1.65, 1.8, 1.99])

@@ -7,7 +7,7 @@ import pytest
 from conftest import ROOT, TABLE1
 
 import jaxcontact as jc
-from jaxcontact.cli.scenefile import SceneFileError, load_scene, parse_scene
+from jaxcontact.cli._scenefile import SceneFileError, load_scene, parse_scene
 
 GOOD = {
     "surface": {"D": 1.4058, "G": 2.2826e-10},

@@ -6,7 +6,7 @@ import pytest
 from conftest import make_scene
 
 import jaxcontact as jc
-from jaxcontact.studies.scipy_baseline import BaselineParameters, solve_point
+from jaxcontact.studies._scipy_baseline import BaselineParameters, solve_point
 
 rng = np.random.default_rng(20241121)
 CASES = [
@@ -50,7 +50,7 @@ def test_matches_scipy_baseline(case, model, interaction, distribution):
 
 def test_bench_compares_with_the_baseline_of_the_same_scene():
     """`jaxcontact bench` times the scipy baseline on the scene's own parameters and choices."""
-    from jaxcontact.studies.bench import _baseline
+    from jaxcontact.studies._curve import _baseline
 
     p = _baseline(make_scene(**CASES[0], interaction="series", distribution="wk"))
     names = ("D", "G", "E", "nu", "H", "area", "l_min")
@@ -59,7 +59,7 @@ def test_bench_compares_with_the_baseline_of_the_same_scene():
 
 
 def test_bench_refuses_a_spot_stiffness_the_baseline_does_not_implement():
-    from jaxcontact.studies.bench import _baseline
+    from jaxcontact.studies._curve import _baseline
 
     with pytest.raises(ValueError, match="spot_stiffness = 'sneddon'"):
         _baseline(make_scene(**CASES[0], spot_stiffness="sneddon"))
@@ -69,7 +69,7 @@ def test_bench_times_the_users_call_under_jax_defaults():
     """The plain call's verdict is taken in a fresh process with JAX's defaults: asynchronous
     dispatch, which the test process (x64 switched on, nothing else) has too, and the command line
     does not; the child's curve is timed against its own scipy run."""
-    from jaxcontact.studies.bench_user import curve_as_users_call_it
+    from jaxcontact.studies._bench_user import curve_as_users_call_it
 
     scene = make_scene(**CASES[0], interaction="none")
     result = curve_as_users_call_it(scene, rounds=1, repeats=2, only=("plain",))

@@ -9,13 +9,13 @@ import numpy as np
 from conftest import ROOT, TABLE1
 
 import jaxcontact as jc
-from jaxcontact.applications.chunks import solve_sweep
+from jaxcontact.applications import solve_sweep
 
 SCRIPT = r"""
 import jax, json, numpy as np
 jax.config.update("jax_enable_x64", True)
 import jaxcontact as jc
-from jaxcontact.applications.sharded_sweep import sweep
+from jaxcontact.applications import sweep
 assert len(jax.devices()) == 2, jax.devices()
 scene = jc.Scene(jc.Surface(1.4058, 2.2826e-10), jc.Material(220e9, 0.25, 100e9), 1e-4)
 D, G = np.linspace(1.3, 1.7, 5), np.geomspace(1e-11, 1e-9, 3)
@@ -89,7 +89,7 @@ def test_a_chunked_solve_equals_one_solve(table1_scene):
 
 
 def test_a_sweep_shorter_than_a_chunk_is_padded_on_the_host_with_no_program_to_cut_it(table1_scene):
-    from jaxcontact.core import programs
+    from jaxcontact.programs import _programs as programs
 
     loads = np.geomspace(1e-7, 1e-4, 10) * TABLE1["E"] * TABLE1["area"]
     programs._unpad.cache_clear()

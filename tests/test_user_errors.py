@@ -56,13 +56,13 @@ def test_a_plausible_scene_is_not_warned_about(recwarn):
 
 def test_an_interrupted_command_exits_130(monkeypatch, capsys, tmp_path):
     """Exit codes (docs/cli.md): 130 after Ctrl-C, with one line."""
-    from jaxcontact.cli import commands
+    from jaxcontact.cli import _commands as commands
 
     def interrupted(*_):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(commands, "load_scene", interrupted, raising=False)
-    monkeypatch.setattr("jaxcontact.cli.scenefile.load_scene", interrupted)
+    monkeypatch.setattr("jaxcontact.cli._scenefile.load_scene", interrupted)
     assert main(["run", "--out", str(tmp_path), "--no-progress"]) == 130
     assert capsys.readouterr().err == "jaxcontact: interrupted\n"
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
-from jaxcontact.cli.compare_commands import _scene
-from jaxcontact.studies.compare import COMPARED, column_key, validation_rows
+from jaxcontact.cli._compare_table import compare_spec
+from jaxcontact.studies._compare import COMPARED, column_key, validation_rows
 
 pytest.importorskip("ContactMechanics")
 TABLE = ROOT / "data" / "validation_bem.csv"
@@ -27,7 +27,7 @@ def regenerated():
     class Args:
         scene = None
 
-    return validation_rows(_scene(Args).scene, grid=256, realisations=1, convergence=False)
+    return validation_rows(compare_spec(Args).scene, grid=256, realisations=1, convergence=False)
 
 
 def test_the_table_names_its_command():

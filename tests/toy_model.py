@@ -15,10 +15,9 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from jaxcontact import AbstractJoint, AbstractLargestSpotModel, JointResponse
-from jaxcontact.models.load_pieces import GenericLoadPieces
-from jaxcontact.numerics.powerlaw import PowerLaw
-from jaxcontact.physics.asperity import kogut_etsion_laws
-from jaxcontact.physics.distribution import size_distribution
+from jaxcontact.models import GenericLoadPieces
+from jaxcontact.numerics import PowerLaw
+from jaxcontact.physics import kogut_etsion_laws, size_distribution
 
 
 class AllElastic(AbstractLargestSpotModel):

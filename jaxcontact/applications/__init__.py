@@ -1,2 +1,35 @@
 """What is built on the stiffness: the load–approach curve, a driven mass on the joint, sharded
 parameter sweeps, and chunked solves of long load sweeps."""
+
+from ._chunks import map_in_chunks, solve_sweep
+from ._sharded_sweep import SweepResult, sweep
+
+# The applications that integrate with diffrax are imported when first used: diffrax's import
+# (0.2 s beyond the equinox and optimistix that `solve` needs anyway) is not needed by `solve`
+# or the command line's `run`.
+_LAZY = {
+    "Drive": "_dynamics",
+    "Response": "_dynamics",
+    "frequency_response": "_dynamics",
+    "resonance_frequency": "_dynamics",
+    "simulate": "_dynamics",
+    "steady_amplitude": "_dynamics",
+    "Approach": "_loadapproach",
+    "approach": "_loadapproach",
+}
+
+__all__ = ["SweepResult", "map_in_chunks", "solve_sweep", "sweep", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

@@ -5,10 +5,10 @@ synthesises realisations of a scene's surface and reports their mean, spread and
 convergence. Results are cached on disk (`ResultCache`).
 """
 
-from .cache import CacheWarning, ResultCache, default_directory
-from .solver import BEMResult, BEMSettings, bem_stiffness
-from .study import ReferenceCurves, realisation, reference_curves
-from .surfaces import check_grid, coarsened, synthesised_surface
+from ._cache import CacheWarning, ResultCache, default_directory
+from ._solver import BEMResult, BEMSettings, bem_stiffness
+from ._study import ReferenceCurves, realisation, reference_curves
+from ._surfaces import check_grid, coarsened, synthesised_surface
 
 __all__ = [
     "BEMResult",

@@ -1,5 +1,5 @@
 """The `jaxcontact` command line, scene files, result tables and plots."""
 
-from .main import main
+from ._main import console, main
 
-__all__ = ["main"]
+__all__ = ["console", "main"]

@@ -1,3 +1,3 @@
-from .main import console
+from ._main import console
 
 console()

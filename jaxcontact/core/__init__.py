@@ -1,2 +1,23 @@
-"""The problem and its solution: the parameters and their domain, the scene, the units, the
-default scene, load control (`solve`), the `Solution` and its status codes."""
+"""The scene (the joint and its model), load control (`solve`, Sec. 4), its options (`Outputs`,
+`NewtonBisection`), the `Solution`, and the default scene."""
+
+from ._defaults import table1_scene, table1_values
+from ._loadcontrol import kink_log_loads, point_solver, solve
+from ._prepare import prepare
+from ._scene import Scene, stack_scenes
+from ._settings import NewtonBisection, Outputs
+from ._solution import Solution
+
+__all__ = [
+    "kink_log_loads",
+    "NewtonBisection",
+    "Outputs",
+    "point_solver",
+    "prepare",
+    "Scene",
+    "Solution",
+    "solve",
+    "stack_scenes",
+    "table1_scene",
+    "table1_values",
+]

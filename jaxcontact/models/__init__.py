@@ -1,3 +1,33 @@
 """Contact models of the whole joint: the abstract interface and the load-controlled solve of
-largest-spot models (`base`), the seed model (`xia2024`) and its comparators. Each model is one
-file here plus one line in `jaxcontact.registry`."""
+largest-spot models, the seed model (`Xia2024`) and its comparators, and the registry from names to
+objects. A new model is one file here plus one line in `_registry.py` (or `register_model`)."""
+
+from ._base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
+from ._greenwood_williamson import GreenwoodWilliamson
+from ._jzz2010 import JZZ2010
+from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
+from ._persson import Persson
+from ._registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, SPOT_STIFFNESSES, build_model, register_model
+from ._xia2024 import Xia2024
+
+__all__ = [
+    "AbstractContactModel",
+    "AbstractJoint",
+    "AbstractLargestSpotModel",
+    "AbstractLoadPieces",
+    "build_model",
+    "DISTRIBUTIONS",
+    "GenericLoadPieces",
+    "GreenwoodWilliamson",
+    "INTERACTIONS",
+    "JointResponse",
+    "JZZ2010",
+    "MODELS",
+    "Persson",
+    "PointResult",
+    "PowerLawLoadPieces",
+    "QUADRATURES",
+    "register_model",
+    "SPOT_STIFFNESSES",
+    "Xia2024",
+]

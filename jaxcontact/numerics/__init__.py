@@ -1,2 +1,44 @@
 """Numerics the models are built from: power laws and their exact integrals, quadrature, the
-"paper" interaction's pole integral, a safeguarded monotone root-finder, input validation."""
+"paper" interaction's pole integral, a safeguarded monotone root-finder, input validation, and
+what differs between the JAX versions supported."""
+
+from ._compat import x64
+from ._powerlaw import PowerLaw, exponential_integral
+from ._quadrature import (
+    AbstractQuadrature,
+    AbstractRowQuadrature,
+    Adaptive,
+    GaussLegendre,
+    PowerSeries,
+    integrate_log_area,
+)
+from ._rootfind import solve_increasing
+from ._validate import (
+    InputError,
+    JaxcontactWarning,
+    MissingExtraError,
+    PlausibilityWarning,
+    check_choice,
+    check_instance,
+    check_range,
+)
+
+__all__ = [
+    "AbstractQuadrature",
+    "AbstractRowQuadrature",
+    "Adaptive",
+    "check_choice",
+    "check_instance",
+    "check_range",
+    "exponential_integral",
+    "GaussLegendre",
+    "InputError",
+    "integrate_log_area",
+    "JaxcontactWarning",
+    "MissingExtraError",
+    "PlausibilityWarning",
+    "PowerLaw",
+    "PowerSeries",
+    "solve_increasing",
+    "x64",
+]

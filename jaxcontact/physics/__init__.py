@@ -1,2 +1,36 @@
-"""The physics of one asperity (Sec. 2), of interaction between asperities (Sec. 3) and of the
-size distribution (Eq. 30), as power laws in the contact area."""
+"""The physics of one asperity (Sec. 2), of interaction between asperities (Sec. 3), of the size
+distribution (Eq. 30) and of the surface's power spectrum, as power laws in the contact area; the
+choices among them (interactions, distributions, spot stiffnesses) are small `eqx.Module`s."""
+
+from ._asperity import REGIMES, interference, kogut_etsion_laws, regime_edges, regime_load_laws
+from ._distribution import (
+    AbstractDistribution,
+    MajumdarBhushan,
+    WangKomvopoulos,
+    size_distribution,
+    wang_komvopoulos_psi,
+)
+from ._interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction, interaction_ratio
+from ._spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon, hertz_stiffness
+
+__all__ = [
+    "AbstractDistribution",
+    "AbstractInteraction",
+    "AbstractSpotStiffness",
+    "FamilyDerivative",
+    "hertz_stiffness",
+    "interaction_ratio",
+    "interference",
+    "kogut_etsion_laws",
+    "MajumdarBhushan",
+    "NoInteraction",
+    "PaperInteraction",
+    "regime_edges",
+    "regime_load_laws",
+    "REGIMES",
+    "SeriesInteraction",
+    "size_distribution",
+    "Sneddon",
+    "wang_komvopoulos_psi",
+    "WangKomvopoulos",
+]

@@ -3,11 +3,11 @@
 Reading and synthesis use SurfaceTopography (the `surface` extra: `pip install jaxcontact[surface]`).
 """
 
-from .characterise import METHODS, Characterisation, characterise
-from .conventions import CONVENTIONS, areal_prefactor, convert_G, profile_prefactor, structure_function_constant
-from .read import read
-from .synthesis import areal_map, random_profile, wm_profile
-from .uncertainty import StiffnessBand, stiffness_band
+from ._characterise import METHODS, Characterisation, characterise
+from ._conventions import CONVENTIONS, areal_prefactor, convert_G, profile_prefactor, structure_function_constant
+from ._read import read
+from ._synthesis import areal_map, random_profile, wm_profile
+from ._uncertainty import StiffnessBand, stiffness_band
 
 __all__ = [
     "CONVENTIONS",

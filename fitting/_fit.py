@@ -1,0 +1,269 @@
+"""Fitting fractal surface parameters to measured stiffness-vs-load curves.
+
+The loss is on log stiffness (relative errors, as measurement noise on K usually is):
+`r_i = ln K_model(F_i; θ) - ln K_i`. Several starts, spread over the parameter bounds, are
+optimised one after another (scipy's optimisers on the host, `fitting._optimise`, each call one
+run of the compiled model and its Jacobian) and the best is kept. Uncertainty is the
+Gauss–Newton covariance at the optimum, `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in
+statistical coordinates (D and ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 %
+intervals.
+
+Data points that the model cannot evaluate at a trial θ (interaction breakdown, load out of
+range) contribute a constant residual `FLAGGED_RESIDUAL` with no gradient, so that no start can
+win by pushing points out of the model; at the optimum such points are excluded from the
+statistics and named in `FitResult.warnings`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import jax.numpy as jnp
+import numpy as np
+
+import jaxcontact as jc
+from jaxcontact import InputError
+from jaxcontact.core import prepare
+
+from ._optimise import RUNNERS, Objective
+from ._parameters import FitParameter, resolve, with_stat
+from ._residuals import residuals_and_jacobian
+from ._statistics import inner_bounds, rival_optima, statistics
+
+# float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
+# ill-conditioned D–G valley. BFGS stops on the loss's relative progress per iteration: at an
+# optimum on a kink of the loss (see `optimise.run_bfgs`) 1e-12 left D 1e-6 short of it.
+DEFAULT_TOLERANCE = {"bfgs": 1e-15, "lm": 1e-10}
+
+
+@dataclasses.dataclass(frozen=True)
+class FitResult:
+    """Estimates, their uncertainty, and how the fit went.
+
+    **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name; stderr of a log-coordinate
+    parameter is the delta-method value · se(ln value), its interval is exp(ln value ± t·se));
+    `correlation` and `covariance` (in statistical coordinates, ordered as `params`); stderr and
+    ci95 are NaN where the model does not describe the data (`describes_data` False: the misfit is
+    far beyond the data's own scatter, and a warning says so), and a linear parameter's interval
+    never leaves its domain (D's stays in (1, 2));
+    `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points); `flagged`
+    (indices of data points outside the model at the optimum); `success`; `iterations` (of the
+    best start); `wall_time` (s, compilation included); `warnings`; `condition_number` (of the
+    scaled Gauss–Newton matrix); `start_losses`; `scene` (the fitted scene).
+    """
+
+    params: tuple[str, ...]
+    values: dict
+    stderr: dict
+    ci95: dict
+    correlation: np.ndarray
+    covariance: np.ndarray
+    residuals: np.ndarray
+    flagged: np.ndarray
+    success: bool
+    iterations: int
+    wall_time: float
+    warnings: tuple[str, ...]
+    condition_number: float
+    loss: float
+    start_losses: np.ndarray
+    method: str
+    scene: jc.Scene = dataclasses.field(repr=False)
+    describes_data: bool = True
+
+    def summary(self) -> str:
+        lines = [
+            f"fit by {self.method}: {'converged' if self.success else 'NOT converged'} in {self.iterations} "
+            f"iterations, {self.wall_time:.2f} s; rms log residual {math.sqrt(2 * self.loss):.3g}"
+        ]
+        for name in self.params:
+            lo, hi = self.ci95[name]
+            spread = (
+                f"± {self.stderr[name]:.3g}   95% CI [{lo:.6g}, {hi:.6g}]"
+                if self.describes_data
+                else "  95% CI not reported: the model does not describe the data"
+            )
+            lines.append(f"  {name:6s} = {self.values[name]:.6g} {spread}")
+        lines += [f"  warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {
+            "params": list(self.params),
+            "values": self.values,
+            "stderr": self.stderr,
+            "ci95": {k: list(v) for k, v in self.ci95.items()},
+            "correlation": self.correlation.tolist(),
+            "residuals": self.residuals.tolist(),
+            "flagged": self.flagged.tolist(),
+            "success": self.success,
+            "iterations": self.iterations,
+            "wall_time_s": self.wall_time,
+            "warnings": list(self.warnings),
+            "condition_number": self.condition_number,
+            "loss": self.loss,
+            "method": self.method,
+            "describes_data": self.describes_data,
+        }
+
+
+METHODS = tuple(RUNNERS)
+# Earlier versions ran optax's L-BFGS under this name; scripts that ask for it get BFGS.
+ALIASES = {"lbfgs": "bfgs"}
+
+# Curves are padded to a multiple of this many points (the padding points are cut
+# off before the optimiser sees them), so that fits of curves of different lengths and with
+# different fixed parameter values (the scene's floats are traced) share one compiled model.
+POINTS_MULTIPLE = 64
+
+
+def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
+    """`values` (along the first axis), padded to a multiple of `multiple` with copies of the first."""
+    return np.concatenate([values, np.repeat(values[:1], -len(values) % multiple, axis=0)])
+
+
+def _padded_curve(loads, stiffness, dtype):
+    """`(loads, ln stiffness)`, padded with copies of the first point (the caller cuts them off)."""
+    return (
+        jnp.asarray(_padded(loads, POINTS_MULTIPLE), dtype),
+        jnp.asarray(np.log(_padded(stiffness, POINTS_MULTIPLE)), dtype),
+    )
+
+
+def starting_points(params, n_starts: int, seed: int, include=None) -> np.ndarray:
+    """Starts in optimiser coordinates: a Latin hypercube over 2 %…98 % of each bound (plus `include`)."""
+    rng = np.random.default_rng(seed)
+    fractions = (
+        rng.permuted(np.tile(np.arange(n_starts), (len(params), 1)), axis=1).T
+        + rng.uniform(size=(n_starts, len(params)))
+    ) / n_starts
+    fractions = 0.02 + 0.96 * fractions
+    u = np.log(fractions) - np.log1p(-fractions)
+    if include is not None:
+        u = np.vstack([np.asarray(include)[None, :], u[:-1]])
+    return u
+
+
+def fit(
+    loads,
+    stiffness,
+    scene: jc.Scene,
+    params=("D", "G"),
+    method: str = "bfgs",
+    *,
+    n_starts: int = 12,
+    seed: int = 0,
+    max_iter: int = 400,
+    tol: float | None = None,
+    starts=None,
+) -> FitResult:
+    """Fit scene parameters to a stiffness-vs-load curve.
+
+    **Arguments:**
+
+    - `loads`, `stiffness`: the measured curve, N and N/m (1-D, same length, all positive).
+    - `scene`: a `jaxcontact.Scene` supplying everything that is not fitted (and one start).
+    - `params`: names of the fitted float fields: any of D, G, l_min, E, nu, H, area.
+    - `method`: "bfgs" (quasi-Newton BFGS on the mean squared log residual, scipy's L-BFGS-B;
+      "lbfgs", the name of earlier versions, is an alias) or "lm" (Levenberg–Marquardt on the
+      residual vector, MINPACK through `scipy.optimize.least_squares`).
+    - `n_starts`: number of starts, optimised one after another; the scene's own values are one.
+      Several are needed: where a_l crosses a regime boundary as the parameters move, the loss has
+      kinks, and along the strongly correlated D–G valley a single start can stall at one.
+    - `seed`: seed of the Latin-hypercube starts.
+    - `max_iter`, `tol`: the cap on iterations (BFGS) or on evaluations of the residuals (LM), and
+      the tolerance (BFGS: on the loss's relative progress per iteration and on the gradient; LM:
+      MINPACK's `xtol`, `ftol` and `gtol`); `None` picks 1e-15 for BFGS and 1e-10 for LM in
+      float64, 1e-6 in float32.
+    - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
+
+    **Returns:** a `FitResult`.
+    """
+    t0 = time.perf_counter()
+    method = ALIASES.get(method, method)
+    if method not in METHODS:
+        raise InputError(f"method = {method!r} is not one of {', '.join(map(repr, METHODS))}")
+    if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
+        raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
+    fitted: tuple[FitParameter, ...] = resolve(params)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    stiffness = np.asarray(stiffness, dtype=float).reshape(-1)
+    if loads.shape != stiffness.shape:
+        raise InputError(f"loads ({loads.size}) and stiffness ({stiffness.size}) differ in length")
+    if loads.size <= len(fitted):
+        raise InputError(f"{loads.size} data points cannot determine {len(fitted)} parameters")
+    if np.unique(loads).size <= len(fitted):
+        raise InputError(
+            f"loads: {np.unique(loads).size} distinct values among {loads.size} points cannot determine "
+            f"{len(fitted)} parameters (a curve needs at least {len(fitted) + 1} different loads)"
+        )
+    for name, values in (("loads", loads), ("stiffness", stiffness)):
+        if not np.all(np.isfinite(values) & (values > 0)):
+            raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
+    dtype = jnp.result_type(1.0)
+    if tol is None:
+        tol = DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6
+    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
+    if starts is None:
+        u0s = starting_points(fitted, n_starts, seed, include=own)
+    else:
+        starts = np.atleast_2d(np.asarray(starts, dtype=float))
+        u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
+    traced_scene, _ = prepare(scene, loads)
+    data = _padded_curve(loads, stiffness, dtype)
+    objective = Objective(traced_scene, fitted, data, loads.size, dtype)
+    outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
+    u_all = np.stack([o.u for o in outcomes])
+    losses = np.array([o.loss for o in outcomes])
+    best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.inf)))
+    converged = outcomes[best].converged
+    stat_hat = np.array([p.stat_from_u(x) for p, x in zip(fitted, u_all[best])])
+    result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
+    success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
+    warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
+    if not converged:
+        # Not only the cap: a line search can also end where the tolerance is not met.
+        warnings.insert(
+            0, f"the best start did not converge ({outcomes[best].iterations} iterations, at most {max_iter})"
+        )
+    return FitResult(
+        params=tuple(p.name for p in fitted),
+        values=result["values"],
+        stderr=result["stderr"],
+        ci95=result["ci95"],
+        correlation=result["correlation"],
+        covariance=result["covariance"],
+        residuals=result["residuals"],
+        flagged=result["flagged"],
+        success=success,
+        iterations=outcomes[best].iterations,
+        wall_time=time.perf_counter() - t0,
+        warnings=tuple(warnings),
+        condition_number=result["condition"],
+        loss=float(losses[best]),
+        start_losses=losses,
+        method=method,
+        scene=with_stat(scene, fitted, np.asarray(stat_hat)),
+        describes_data=result["describes_data"],
+    )
+
+
+def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
+    """The stiffness (N/m) of `scene` at `loads`, NaN where the model flags a point or K = 0, by the
+    program that a fit of `params` compiles (its residuals against ln K = 0 are ln K): after
+    `fit(..., scene, params)` (the fitted scene is `FitResult.scene`) nothing is traced or compiled.
+    """
+    fitted = resolve(params)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    traced, _ = prepare(scene, loads)
+    dtype = jnp.result_type(1.0)
+    stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
+    stiffness = []
+    for start in range(0, loads.size, POINTS_MULTIPLE):
+        part = loads[start : start + POINTS_MULTIPLE]
+        padded, zeros = _padded_curve(part, np.ones_like(part), dtype)
+        r, ok, _, _ = residuals_and_jacobian(stat, traced, fitted, padded, zeros)
+        stiffness.append(np.where(np.asarray(ok), np.exp(np.asarray(r, dtype=float)), np.nan)[: part.size])
+    return np.concatenate(stiffness)

@@ -1,0 +1,120 @@
+"""The optimisers: scipy's Levenberg–Marquardt (MINPACK) and BFGS (L-BFGS-B), driving one compiled model.
+
+The model is compiled once per static configuration, as residuals *and* their Jacobian
+(`residuals.residuals_and_jacobian`, forward mode over the fitted parameters), and the
+optimisers run on the host, one call per trial point. The same compiled function then gives
+the Gauss–Newton statistics at the optimum and the misfit of rival optima. An optimiser compiled
+around the model (optimistix's, inside `jit`) compiles the model inside its loop, and the
+statistics compile it once more: about three times the compilation (docs/fitting.md). With two
+to seven parameters a step on the host costs nothing next to the model.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from scipy import optimize
+
+from ._parameters import FitParameter
+from ._residuals import residuals_and_jacobian
+
+
+@dataclasses.dataclass(frozen=True)
+class Outcome:
+    """One start's end: optimiser coordinates `u`, `loss` (½ mean r²), `iterations`, `converged`."""
+
+    u: np.ndarray
+    loss: float
+    iterations: int
+    converged: bool
+
+
+class Objective:
+    """The residuals `r(u)` and their Jacobian `∂r/∂u` at the curve's points (the padding cut off).
+
+    `u` are the optimiser coordinates (`FitParameter.stat_from_u`); `r` and `∂r/∂stat` come from
+    the one compiled `residuals_and_jacobian`, and `∂stat/∂u` is applied here. The last point is
+    remembered: scipy asks for the residuals and the Jacobian at the same point one after the other.
+    """
+
+    def __init__(self, scene, params: tuple[FitParameter, ...], data, n_points: int, dtype):
+        self.scene, self.params, self.data, self.n_points, self.dtype = scene, params, data, n_points, dtype
+        self._last = None
+
+    def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
+        u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
+        if self._last is not None and np.array_equal(self._last[0], u):
+            return self._last[1]
+        stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
+        loads, log_stiffness = self.data
+        r, _, _, J = residuals_and_jacobian(np.asarray(stat, self.dtype), self.scene, self.params, loads, log_stiffness)
+        n = self.n_points
+        r = np.asarray(r, dtype=float)[:n]
+        J = np.asarray(J, dtype=float)[:n] * np.asarray(slope)
+        self._last = (u, (r, J))
+        return r, J
+
+    def loss(self, u) -> float:
+        r = self(u)[0]
+        return 0.5 * float(r @ r) / self.n_points
+
+
+def run_lm(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
+    """Levenberg–Marquardt (MINPACK's `lmder` through `scipy.optimize.least_squares`).
+
+    `tol` is MINPACK's `xtol`, `ftol` and `gtol` (relative step, relative reduction of the sum of
+    squares, cosine between the residuals and the Jacobian's columns); `max_iter` caps the
+    evaluations of the residuals.
+    """
+    sol = optimize.least_squares(
+        lambda u: objective(u)[0],
+        u0,
+        jac=lambda u: objective(u)[1],
+        method="lm",
+        xtol=tol,
+        ftol=tol,
+        gtol=tol,
+        max_nfev=max_iter,
+    )
+    return Outcome(sol.x, objective.loss(sol.x), int(sol.njev or sol.nfev), bool(sol.status > 0))
+
+
+def run_bfgs(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
+    """Quasi-Newton BFGS on the loss `½ mean r²`, with the gradient `Jᵀr / N` (scipy's L-BFGS-B,
+    without bounds: with two to seven parameters its memory of ten steps is the full BFGS matrix).
+
+    It stops when an iteration lowers the loss by less than `tol` (relative) or the gradient's
+    largest component is below `tol`. This model's loss has kinks (where a point's `a_l` crosses a
+    regime boundary) and an optimum can sit on one: there the gradient never vanishes, and only
+    the loss's progress can tell the end (scipy's dense BFGS, whose line search gives up at a kink
+    before that, stopped short of such optima). A line search that can lower the loss no further
+    elsewhere ("abnormal termination") ends at a converged point when the Gauss–Newton step from
+    it is below `√tol` (relative): near a smooth minimum the loss is flat to round-off over that
+    distance.
+    """
+
+    def loss_and_gradient(u):
+        r, J = objective(u)
+        return objective.loss(u), J.T @ r / objective.n_points
+
+    sol = optimize.minimize(
+        loss_and_gradient,
+        u0,
+        jac=True,
+        method="L-BFGS-B",
+        options=dict(ftol=tol, gtol=tol, maxiter=max_iter, maxfun=10 * max_iter),
+    )
+    converged = bool(sol.success) or (sol.status == 2 and _gauss_newton_step(objective, sol.x) <= math.sqrt(tol))
+    return Outcome(sol.x, objective.loss(sol.x), int(sol.nit), converged)
+
+
+def _gauss_newton_step(objective: Objective, u) -> float:
+    """The largest component of the Gauss–Newton step from `u`, relative to `1 + |u|`."""
+    r, J = objective(u)
+    step = np.linalg.lstsq(J, -r, rcond=None)[0]
+    return float(np.max(np.abs(step) / (1.0 + np.abs(u))))
+
+
+RUNNERS = {"bfgs": run_bfgs, "lm": run_lm}

@@ -1,0 +1,202 @@
+"""Uncertainty at the optimum: Gauss–Newton covariance, intervals, correlations, warnings.
+
+The covariance is `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in statistical coordinates (D and
+ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 % intervals. Points the model flags
+at the optimum are left out and named.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import special
+
+import jaxcontact as jc
+
+from ._parameters import FitParameter
+from ._residuals import residuals_and_jacobian
+
+# Optima closer than this fraction of every parameter's search range (statistical coordinates) are one.
+_SAME_OPTIMUM = 1e-4
+
+
+def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
+    """Warn when another start ended at a clearly distinct optimum that fits almost as well.
+
+    A local Gauss–Newton interval cannot describe a bimodal misfit; this model has such cases
+    (e.g. a second (D, G) with a_c near the cutoff when the curve stays above F* ≈ 1e-9).
+    Distinct: Mahalanobis distance > 5 under the covariance, and apart by more than `_SAME_OPTIMUM`
+    of a search range; almost as well: Δχ² < 9, both misfits summed over the points valid at the
+    best optimum (the constant residuals of flagged points are no measure of fit).
+    """
+    covariance = result["covariance"]
+    if not np.all(np.isfinite(covariance)):
+        return []
+    used = np.isfinite(result["residuals"])
+    padded_loads, log_stiffness = data
+
+    def rss_at(stat):
+        r = np.asarray(residuals_and_jacobian(stat, scene, params, padded_loads, log_stiffness)[0])
+        return float(np.sum(r[: used.size][used] ** 2))
+
+    stats_all = np.array([[p.stat_from_u(x) for p, x in zip(params, u)] for u in u_all])
+    rss_best = float(np.sum(result["residuals"][used] ** 2))
+    s2 = rss_best / max(result["n_used"] - len(params), 1)
+    precision = np.linalg.pinv(covariance)
+    ranges = np.ptp(np.array([p.stat_bounds for p in params]), axis=1)
+    rivals = []
+    for k in range(len(u_all)):
+        delta = stats_all[k] - stats_all[best]
+        if k == best or not np.all(np.isfinite(delta)) or float(delta @ precision @ delta) <= 25.0:
+            continue
+        # Distinct in practice too: a vanishing covariance (a noiseless curve) makes any two starts
+        # that met at the same optimum "distinct" by Mahalanobis distance alone.
+        if not np.any(np.abs(delta) > _SAME_OPTIMUM * ranges):
+            continue
+        rss = rss_at(stats_all[k])
+        # An exact fit (s2 = 0) makes any worse minimum infinitely worse, and another exact one equal.
+        chi2 = (rss - rss_best) / s2 if s2 > 0 else (0.0 if rss <= rss_best else math.inf)
+        if chi2 < 9.0:
+            rivals.append((chi2, k))
+    if not rivals:
+        return []
+    chi2, k = min(rivals)
+    where = ", ".join(f"{p.name} = {float(p.from_stat(stats_all[k][i])):.4g}" for i, p in enumerate(params))
+    return [
+        f"a distinct optimum ({where}) fits almost as well (Δχ² = {chi2:.2f}): the data do not choose between "
+        "them, and the intervals above describe only the best one; extend the load range (to lower F*) or "
+        "add points"
+    ]
+
+
+def inner_bounds(p: FitParameter):
+    lo, hi = p.stat_bounds
+    return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
+
+
+def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
+    """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
+
+    `loads` is the curve as given; `data` is `_padded_curve`'s, whose padding is cut off here.
+    """
+    padded_loads, log_stiffness = data
+    r, ok, status, J = (
+        np.asarray(x)[: loads.size]
+        for x in residuals_and_jacobian(stat_hat, scene, params, padded_loads, log_stiffness)
+    )
+    warnings = []
+    flagged = np.flatnonzero(~ok)
+    if flagged.size:
+        status = status[flagged]
+        reasons = [jc.status_message(s) if s else "K = 0: every spot plastic" for s in status[:5]]
+        listed = ", ".join(f"{loads[i]:.4g} N ({why})" for i, why in zip(flagged[:5], reasons))
+        warnings.append(
+            f"{flagged.size} of {loads.size} points are outside the model at the optimum and were "
+            f"left out of the statistics: {listed}{' …' if flagged.size > 5 else ''}"
+        )
+    J, r_used = J[ok], r[ok]
+    n, p = J.shape
+    dof = n - p
+    names = [q.name for q in params]
+    nan_matrix = np.full((p, p), np.nan)
+    covariance, correlation, condition = nan_matrix, nan_matrix, math.inf
+    if dof > 0:
+        s2 = float(r_used @ r_used) / dof
+        JTJ = J.T @ J
+        scale = np.sqrt(np.diag(JTJ))
+        if np.all(scale > 0):
+            scaled = JTJ / np.outer(scale, scale)
+            condition = float(np.linalg.cond(scaled))
+            inverse = np.linalg.pinv(JTJ)
+            covariance = s2 * inverse
+            # From the inverse itself: the correlation does not depend on the residuals' scale,
+            # and an exact fit (s2 = 0, every standard error 0) still has one.
+            spread = np.sqrt(np.diag(inverse))
+            correlation = inverse / np.outer(spread, spread)
+        else:
+            warnings.append(
+                "the data do not depend on "
+                + ", ".join(names[i] for i in np.flatnonzero(scale == 0))
+                + ": not identifiable"
+            )
+    else:
+        warnings.append(f"{n} usable points for {p} parameters: no uncertainty can be estimated")
+    t = special.stdtrit(dof, 0.975) if dof > 0 else math.nan  # Student-t quantile (scipy.stats costs 1 s to import)
+    values, stderr, ci95 = {}, {}, {}
+    for i, q in enumerate(params):
+        s, se = float(stat_hat[i]), math.sqrt(covariance[i, i]) if np.isfinite(covariance[i, i]) else math.nan
+        values[q.name] = float(q.from_stat(s))
+        stderr[q.name] = values[q.name] * se if q.log else se
+        lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
+        # A linear coordinate's interval stays inside the parameter's domain (D in (1, 2)).
+        ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
+        if abs(u_hat[i]) > 12:
+            warnings.append(f"{q.name} = {values[q.name]:.4g} is at the edge of its bounds [{q.low:g}, {q.high:g}]")
+    for i in range(p):
+        for j in range(i + 1, p):
+            if abs(correlation[i, j]) > 0.99:
+                warnings.append(
+                    f"{names[i]} and {names[j]} are strongly correlated (r = {correlation[i, j]:+.4f}): "
+                    "poorly identified separately"
+                )
+    if condition > 1e8:
+        warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
+    misfit = misfit_warning(np.log(loads[ok]), np.asarray(log_stiffness)[: loads.size][ok], r_used)
+    if misfit:
+        warnings.append(misfit)
+        # Intervals of a model that does not describe the data would look meaningful and are not.
+        stderr = dict.fromkeys(stderr, math.nan)
+        ci95 = dict.fromkeys(ci95, (math.nan, math.nan))
+    residuals = np.where(ok, r, np.nan)
+    return dict(
+        values=values,
+        stderr=stderr,
+        ci95=ci95,
+        covariance=covariance,
+        correlation=correlation,
+        condition=condition,
+        warnings=warnings,
+        flagged=flagged,
+        residuals=residuals,
+        n_used=n,
+        describes_data=not misfit,
+    )
+
+
+# Below this rms (ln units, ~2 %) a misfit is too small to call the model wrong, whatever the data's scatter.
+_NEGLIGIBLE_MISFIT = 0.02
+
+
+def point_scatter(x, y) -> float:
+    """The noise σ of `y` from the data alone: each point's deviation from the straight line
+    through its two neighbours in `x` (a smooth curve is locally straight), scaled by what that
+    deviation's variance is for independent noise, robustly (median, not mean)."""
+    order = np.argsort(x)
+    x, y = np.asarray(x)[order], np.asarray(y)[order]
+    x0, x1, x2, y0, y1, y2 = x[:-2], x[1:-1], x[2:], y[:-2], y[1:-1], y[2:]
+    span = x2 - x0
+    keep = span > 0
+    if not keep.any():
+        return math.nan
+    w0, w2 = (x2 - x1)[keep] / span[keep], (x1 - x0)[keep] / span[keep]
+    d = y1[keep] - (w0 * y0[keep] + w2 * y2[keep])
+    # For independent noise of variance σ², d has variance σ² (1 + w0² + w2²); the median of χ²₁ is 0.4549.
+    return float(np.sqrt(np.median(d * d / (1 + w0 * w0 + w2 * w2)) / 0.4549))
+
+
+def misfit_warning(log_loads, log_stiffness, residuals) -> str | None:
+    """A warning when the fit misses the data by far more than the data scatter about themselves:
+    then the model does not describe them (wrong units, another model, another effect)."""
+    if residuals.size < 3:
+        return None
+    rms = float(np.sqrt(np.mean(residuals * residuals)))
+    scatter = point_scatter(log_loads, log_stiffness)
+    if rms <= _NEGLIGIBLE_MISFIT or not (rms > 3 * scatter):
+        return None
+    return (
+        f"the rms misfit ({100 * rms:.3g} % in K) is {f'{rms / scatter:.3g}x' if scatter > 0 else 'far above'} the "
+        "data's own point-to-point scatter "
+        f"({100 * scatter:.3g} %): the model does not describe these data (loads or stiffness in other units? "
+        "another model? an effect the model lacks?); the values and intervals above are not to be trusted"
+    )

@@ -1,0 +1,129 @@
+"""The boundary-element reference of a scene: several synthesised realisations of its surface,
+their mean and spread, and the grid's convergence (MODEL.md §10)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from ..numerics._validate import InputError, assigned
+from ._cache import ResultCache
+from ._solver import BEMResult, BEMSettings, bem_stiffness
+from ._surfaces import check_grid, coarsened, synthesised_surface
+
+# Surfaces are synthesised on at least this grid and coarsened to the solve's grid by Fourier
+# truncation, so that a realisation (a seed) is the same surface whatever grid solves it.
+SYNTHESIS_GRID = 512
+
+
+@dataclasses.dataclass(frozen=True)
+class ReferenceCurves:
+    """K(F) of a scene's surface by the BEM over `realisations` seeds.
+
+    **Fields:** `results` (one `BEMResult` per realisation), `seeds`, `grid`; `convergence`, the
+    `BEMResult` of the first realisation on the grid `grid/2` (None if not asked for).
+    **Properties:** `stiffness` (realisations × loads), `mean`, `low`, `high` (over realisations,
+    NaN where any is flagged), `grid_change` (K at grid/2 over K at grid, minus 1).
+    """
+
+    results: tuple[BEMResult, ...]
+    seeds: tuple[int, ...]
+    grid: int
+    convergence: BEMResult | None
+
+    @property
+    def loads(self):
+        return self.results[0].loads
+
+    @property
+    def stiffness(self):
+        return np.array([r.stiffness for r in self.results])
+
+    @property
+    def contact_fraction(self):
+        return np.mean([r.contact_fraction for r in self.results], axis=0)
+
+    @property
+    def ok(self):
+        return np.all([r.status == 0 for r in self.results], axis=0)
+
+    @property
+    def mean(self):
+        return np.where(self.ok, np.mean(self.stiffness, axis=0), np.nan)
+
+    @property
+    def low(self):
+        return np.where(self.ok, np.min(self.stiffness, axis=0), np.nan)
+
+    @property
+    def high(self):
+        return np.where(self.ok, np.max(self.stiffness, axis=0), np.nan)
+
+    @property
+    def grid_change(self):
+        if self.convergence is None:
+            return None
+        return self.convergence.stiffness / self.results[0].stiffness - 1.0
+
+
+def _power_of_two(grid: int) -> bool:
+    return grid >= 8 and grid & (grid - 1) == 0
+
+
+def realisation(D, G, l_min, size, grid, seed):
+    """Realisation `seed` of the surface, synthesised on `max(grid, SYNTHESIS_GRID)` points per side
+    and coarsened to `grid` (the same surface on every grid that resolves `l_min`)."""
+    if not _power_of_two(grid):
+        raise InputError(
+            f"{assigned('grid', str(grid))} must be a power of two >= 8 (surfaces are coarsened by halving)"
+        )
+    check_grid(l_min, size, grid)
+    fine = max(grid, SYNTHESIS_GRID)
+    surface = synthesised_surface(D, G, l_min, size, fine, seed)
+    return coarsened(surface, fine // grid) if fine > grid else surface
+
+
+def reference_curves(
+    scene,
+    loads,
+    *,
+    grid: int = 512,
+    realisations: int = 3,
+    seed: int = 0,
+    convergence: bool = True,
+    settings: BEMSettings = BEMSettings(),
+    cache: ResultCache | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> ReferenceCurves:
+    """The BEM K(F) of a scene's surface (D, G, l_min; `A_a = L²`) and modulus, over realisations.
+
+    **Arguments:** `scene` (a `jaxcontact.Scene`; its E is the contact modulus), `loads` (N),
+    `grid` (points per side, a power of two that gives `l_min` ≥ 4 grid spacings),
+    `realisations` (seeds `seed`, `seed + 1`, ...), `convergence` (also solve the first realisation
+    on `grid/2`), `settings`, `cache`, `progress` (called as `progress(done, total)` over all loads).
+    """
+    if isinstance(realisations, bool) or not isinstance(realisations, int) or not 1 <= realisations <= 64:
+        raise InputError(f"{assigned('realisations', repr(realisations))} must be an integer in [1, 64]")
+    D, G, l_min = (float(x) for x in (scene.surface.D, scene.surface.G, scene.surface.l_min))
+    size, modulus = math.sqrt(float(scene.area)), float(scene.material.E)
+    loads = np.atleast_1d(np.asarray(loads, dtype=float))
+    seeds = tuple(range(seed, seed + realisations))
+    surfaces = [realisation(D, G, l_min, size, grid, s) for s in seeds]
+    total = len(loads) * (len(seeds) + (1 if convergence else 0))
+    done = [0]
+
+    def advance(step, _):
+        if progress is not None:
+            progress(done[0] + step, total)
+
+    results = []
+    for surface in surfaces:
+        results.append(bem_stiffness(surface, modulus, loads, settings=settings, cache=cache, progress=advance))
+        done[0] += len(loads)
+    coarse = None
+    if convergence:
+        coarse = bem_stiffness(coarsened(surfaces[0]), modulus, loads, settings=settings, cache=cache, progress=advance)
+    return ReferenceCurves(tuple(results), seeds, grid, coarse)

@@ -1,0 +1,250 @@
+"""The commands of `jaxcontact`: each reads a scene (or data), runs the library, writes files and
+prints a table or JSON. User mistakes raise `CommandError` (or `ValueError`), reported in one line.
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+from ._output import EXIT_NOT_USABLE, CommandError, implausible_values, print_result
+
+
+def cmd_run(args) -> int:
+    import numpy as np
+
+    from ..applications import solve_sweep
+    from ._report import flagged_summary, format_table, record_comments, scene_record, solution_rows, write_csv
+    from ._scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    band = None
+    if getattr(args, "topography", None):
+        from ._surface_commands import topography_scene
+
+        spec, band = topography_scene(spec, args)
+    warnings = implausible_values(spec)
+    solution = solve_sweep(
+        spec.scene,
+        spec.loads,
+        outputs=spec.outputs,
+        solver=spec.solver,
+        progress=args.progress and spec.loads.size > 4096,
+    )
+    rows = solution_rows(solution)
+    if band is not None:
+        for row, lower, upper in zip(rows, band.lower, band.upper):
+            row["K_lower_95_N_per_m"], row["K_upper_95_N_per_m"] = float(lower), float(upper)
+    if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
+        for row, extra in zip(rows, _approach_rows(spec)):
+            row["approach_m"] = extra["approach_m"]
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    record = scene_record(spec)
+    write_csv(rows, out / "results.csv", comments=record_comments(record))
+    from ._plots import plot_sweep
+
+    files = [str(out / "results.csv")] + plot_sweep(solution, spec.title, out)
+    if band is not None:
+        from ._surface_commands import plot_band
+
+        files.append(plot_band(band, spec.title, out / "stiffness_band.png"))
+    choices = ", ".join(f"{k} {v!r}" for k, v in spec.scene.model.options().items())
+    flagged = flagged_summary(solution.status)
+    plastic = int(np.sum(solution.fully_plastic))
+    if plastic:
+        flagged += f"; {plastic} fully plastic (K = 0: every contact spot is plastic, Sec. 4.2)"
+    summary = f"{spec.title}\n{choices}; {flagged}\n\n{format_table(rows)}\n\n" + "\n".join(f"wrote {f}" for f in files)
+    payload = {"title": spec.title, "source": spec.source, "scene": record, "flagged": flagged, "warnings": warnings}
+    payload["rows"] = rows
+    print_result({**payload, "files": files}, args.format, summary)
+    return 0
+
+
+def _approach_rows(spec):
+    import numpy as np
+
+    from ..applications import approach
+    from ..quantities import status_message
+
+    result = approach(spec.scene, spec.loads, spec.approach_reference)
+    return [
+        {"F_N": float(F), "F_star": float(Fs), "approach_m": float(d), "status": status_message(s)}
+        for F, Fs, d, s in zip(spec.loads, spec.load_star, np.asarray(result.approach), np.asarray(result.status))
+    ]
+
+
+def _require(spec, effect: str, table: str) -> None:
+    if getattr(spec, effect) is None:
+        raise CommandError(
+            f"{spec.source} does not ask for this effect: add a [{table}] table (see data/scenes/table1_dynamics.toml)"
+        )
+
+
+def _require_valid_preload(scene, load: float, key: str) -> None:
+    """A preload where the model gives no stiffness makes every row meaningless: refuse it."""
+    from ..core import solve
+    from ..quantities import status_message
+
+    status = int(solve(scene, load).status)
+    if status != 0:
+        raise CommandError(
+            f"{key} = {load:g} N is outside the model ({status_message(status)}): choose a preload where the "
+            "stiffness is valid (see jaxcontact run on this scene)"
+        )
+
+
+def cmd_approach(args) -> int:
+    import numpy as np
+
+    from ._report import format_table, write_csv
+    from ._scenefile import DYNAMICS_SCENE, load_scene
+
+    spec = load_scene(args.scene, default=DYNAMICS_SCENE)
+    _require(spec, "approach_reference", "approach")
+    _require_valid_preload(spec.scene, spec.approach_reference, "approach.reference_load")
+    rows = _approach_rows(spec)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "approach.csv")
+    from ._plots import plot_approach
+
+    files = [
+        str(out / "approach.csv"),
+        plot_approach(
+            spec.load_star, np.array([r["approach_m"] for r in rows]), spec.approach_reference, out / "approach.png"
+        ),
+    ]
+    text = (
+        f"{spec.title}: approach relative to F0 = {spec.approach_reference:g} N\n\n"
+        + format_table(rows, ("F_N", "F_star", "approach_m", "status"))
+        + "\n\n"
+        + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result(
+        {"title": spec.title, "reference_load_N": spec.approach_reference, "rows": rows, "files": files},
+        args.format,
+        text,
+    )
+    return 0
+
+
+def cmd_dynamics(args) -> int:
+    import numpy as np
+
+    from ..applications import Drive, frequency_response, map_in_chunks, resonance_frequency, simulate
+    from ..quantities import status_message
+    from ._report import write_csv
+    from ._scenefile import DYNAMICS_SCENE, load_scene
+
+    spec = load_scene(args.scene, default=DYNAMICS_SCENE)
+    _require(spec, "dynamics", "dynamics")
+    d = spec.dynamics
+    f_linear, status = resonance_frequency(spec.scene, d.mass, np.array([d.preload]))
+    f_linear, status = float(f_linear[0]), int(status[0])
+    if status != 0:
+        raise CommandError(
+            f"the joint has no valid stiffness at the preload {d.preload:g} N ({status_message(status)})"
+        )
+    damping = d.damping if d.damping is not None else 2 * d.damping_ratio * d.mass * 2 * np.pi * f_linear
+    drive = Drive(
+        mass=d.mass, damping=damping, preload=d.preload, amplitude=d.amplitude, frequency=d.frequency or f_linear
+    )
+    history = simulate(spec.scene, drive, periods=20)
+    sweep_hz = np.linspace(*d.sweep, d.sweep_count) * f_linear
+    amplitudes, statuses = map_in_chunks(
+        lambda f: frequency_response(spec.scene, drive, f),
+        sweep_hz,
+        chunk=8,
+        progress=args.progress,
+        desc="frequency sweep",
+    )
+    peak = int(np.nanargmax(amplitudes))
+    f_res, res_status = (np.asarray(x) for x in resonance_frequency(spec.scene, d.mass, spec.loads))
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(
+        [
+            {"t_s": float(t), "x_m": float(x), "v_m_per_s": float(v), "contact_force_N": float(F)}
+            for t, x, v, F in zip(history.t, history.x, history.v, history.contact_force)
+        ],
+        out / "time_history.csv",
+    )
+    sweep_rows = [
+        {"frequency_Hz": float(f), "amplitude_m": float(a), "status": status_message(s)}
+        for f, a, s in zip(sweep_hz, amplitudes, statuses)
+    ]
+    write_csv(sweep_rows, out / "frequency_response.csv")
+    resonance_rows = [
+        {"preload_N": float(F), "resonance_Hz": float(f), "status": status_message(s)}
+        for F, f, s in zip(spec.loads, f_res, res_status)
+    ]
+    write_csv(resonance_rows, out / "resonance_vs_preload.csv")
+    files = [str(out / n) for n in ("time_history.csv", "frequency_response.csv", "resonance_vs_preload.csv")]
+    from ._plots import plot_dynamics
+
+    files += plot_dynamics(history, sweep_hz, amplitudes, f_linear, spec.loads, f_res, out)
+    summary = {
+        "title": spec.title,
+        "mass_kg": d.mass,
+        "preload_N": d.preload,
+        "amplitude_N": d.amplitude,
+        "damping_N_s_per_m": damping,
+        "linear_resonance_Hz": f_linear,
+        "sweep_peak_Hz": float(sweep_hz[peak]),
+        "peak_amplitude_m": float(amplitudes[peak]),
+        "frequency_response": sweep_rows,
+        "resonance_vs_preload": resonance_rows,
+        "files": files,
+    }
+    text = (
+        f"{spec.title}\nmass {d.mass:g} kg, preload {d.preload:g} N, drive {d.amplitude:g} N, "
+        f"damping {damping:.4g} N s/m\nlinear resonance sqrt(K(F0)/m)/2π = {f_linear:.6g} Hz; "
+        f"sweep peak at {sweep_hz[peak]:.6g} Hz, amplitude {amplitudes[peak]:.4g} m\n"
+        + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result(summary, args.format, text)
+    return 0
+
+
+def cmd_fit(args) -> int:
+    import sys
+    import time
+
+    import numpy as np
+
+    import fitting
+
+    from ._report import scene_record
+    from ._scenefile import load_scene
+
+    if not 1 <= args.starts <= 1024:
+        raise CommandError(f"--starts {args.starts} must be an integer in [1, 1024]")
+    spec = load_scene(args.scene)
+    curve = fitting.load_curve(args.data, spec.scene)
+    t = time.perf_counter()
+    if args.progress:
+        print(
+            f"fitting {args.params} to {curve.loads.size} points by {args.method} ({args.starts} starts); the first "
+            "fit of a model compiles it (~10 s), later runs read it from the cache ...",
+            file=sys.stderr,
+            flush=True,
+        )
+    result = fitting.fit(
+        curve.loads, curve.stiffness, spec.scene, params=args.params, method=args.method, n_starts=args.starts
+    )
+    if args.progress:
+        print(f"fit done in {time.perf_counter() - t:.1f} s", file=sys.stderr, flush=True)
+    out = pathlib.Path(args.out)
+    fine = np.geomspace(curve.loads.min(), curve.loads.max(), 200)
+    # Through the fit's own compiled program: the fitted curve costs no new trace.
+    fitted = fitting.model_stiffness(result.scene, result.params, fine)
+    from ._plots import plot_fit
+
+    files = [plot_fit(result, curve.loads, curve.stiffness, fine, fitted, out / "fit.png")]
+    text = f"{curve.source}: {curve.loads.size} points, scene {spec.title}\n{result.summary()}\n" + "\n".join(
+        f"wrote {f}" for f in files
+    )
+    record = {"data": curve.source, "scene": scene_record(spec), **result.to_dict(), "files": files}
+    print_result(record, args.format, text)
+    # 1: the fit ran and wrote its files, but its result is not usable (docs/cli.md, exit codes).
+    return 0 if result.success and result.describes_data else EXIT_NOT_USABLE

@@ -1,0 +1,63 @@
+"""`jaxcontact compare`: every model beside the elastic boundary-element reference (MODEL.md §9–10)."""
+
+from __future__ import annotations
+
+import pathlib
+
+from ._compare_table import cache, compare_spec, comparison_table, plot_comparison, progress
+from ._output import CommandError, print_result
+
+
+def cmd_compare(args) -> int:
+    from ..numerics._validate import optional_import
+    from ..studies._compare import COMPARED, compare_scene, validation_rows
+    from ._report import write_csv
+
+    optional_import("ContactMechanics", "the boundary-element reference of jaxcontact compare")  # before any work
+
+    out = pathlib.Path(args.out)
+    if args.topography:
+        from ._compare_measured import compare_measured
+
+        return compare_measured(args, out, cache(args), progress(args, "BEM"))
+    spec = compare_spec(args)
+    options = dict(grid=args.grid, realisations=args.realisations, seed=args.seed, cache=cache(args))
+    labels = list(COMPARED)
+    if args.validation:
+        rows = validation_rows(spec.scene, progress=progress(args, "BEM"), convergence=False, **options)
+        out.mkdir(parents=True, exist_ok=True)
+        write_csv(
+            rows,
+            out / "validation.csv",
+            comments=[
+                f"jaxcontact compare --validation --grid {args.grid} "
+                f"--realisations {args.realisations} --seed {args.seed}"
+            ],
+        )
+        by_D = sorted({r["D"] for r in rows})
+        text = "\n\n".join(f"D = {D}\n" + comparison_table([r for r in rows if r["D"] == D], labels) for D in by_D)
+        files = [str(out / "validation.csv")]
+        print_result({"rows": rows, "files": files}, args.format, f"{text}\n\nwrote {files[0]}")
+        return 0
+    comparison = compare_scene(spec.scene, spec.loads, progress=progress(args, "BEM"), **options)
+    if not comparison.reference.ok.any():
+        raise CommandError("the BEM gave no valid point at these loads (see the status column of comparison.csv)")
+    rows = comparison.rows()
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "comparison.csv")
+    files = [str(out / "comparison.csv"), plot_comparison(comparison, spec.title, out / "comparison.png")]
+    change = comparison.reference.grid_change
+    convergence = (
+        ""
+        if change is None
+        else (
+            f"grid convergence: K at {args.grid // 2}² differs from {args.grid}² by at most "
+            f"{float(abs(change[comparison.reference.ok]).max()):.2%}\n"
+        )
+    )
+    summary = (
+        f"{spec.title}\nK_model / K_BEM (BEM: {args.grid}², mean of {args.realisations} realisations)\n"
+        f"{comparison_table(rows, labels)}\n{convergence}\n" + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result({"title": spec.title, "rows": rows, "files": files}, args.format, summary)
+    return 0

@@ -1,0 +1,105 @@
+"""`jaxcontact compare --topography FILE`: the BEM on a measured map beside the models on its
+characterised (D, G, l_min), and each model's own (D, G) fitted to the BEM curve."""
+
+from __future__ import annotations
+
+import math
+
+from ._compare_table import compare_spec, comparison_table, plot_comparison
+from ._output import CommandError, print_result
+
+# Contact fractions (Persson's) at which the measured map is loaded.
+MEASURED_FRACTIONS = (0.005, 0.02, 0.05, 0.12)
+
+
+def _fits(comparison, K_bem, ok):
+    """Each model's (D, G) fitted to the BEM curve, beside the characterised values."""
+    from fitting import fit
+
+    from ..studies._compare import COMPARED
+
+    rows = []
+    for label, options in COMPARED.items():
+        scene = comparison.scene.with_model(**options)
+        try:
+            result = fit(comparison.loads[ok], K_bem[ok], scene, params=("D", "G"), n_starts=4)
+            D, G, loss, success = result.values["D"], result.values["G"], result.loss, bool(result.success)
+            warnings = "; ".join(result.warnings)
+        except ValueError as exc:  # a curve the model cannot reach at all: said, not fatal
+            D = G = loss = math.nan
+            success, warnings = False, str(exc)
+        rows.append(
+            {"model": label, "D_fit": D, "G_fit_wm_m": G, "loss": loss, "success": success, "warnings": warnings}
+        )
+    return rows
+
+
+def _on_grid(topography, grid):
+    """The map coarsened by halving (Fourier truncation) until no side exceeds `grid` points."""
+    from ..bem import coarsened
+
+    factor = 1
+    while max(topography.nb_grid_pts) > grid and all(n % 2 == 0 for n in topography.nb_grid_pts):
+        topography, factor = coarsened(topography), factor * 2
+    return topography, factor
+
+
+def compare_measured(args, out, cache, progress) -> int:
+    import equinox as eqx
+    import numpy as np
+
+    from ..bem import ReferenceCurves, bem_stiffness
+    from ..studies._compare import Comparison, loads_for_fractions, model_curves
+    from ._report import write_csv
+    from ._surface_commands import characterise_file
+
+    topography, c = characterise_file(args)
+    if topography.dim != 2:
+        raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
+    topography, coarsening = _on_grid(topography, args.grid)
+    spec = compare_spec(args)
+    lx, ly = topography.physical_sizes
+    scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (c.surface, np.asarray(lx * ly)))
+    loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
+    result = bem_stiffness(
+        topography, float(scene.material.E), loads, substrate=args.substrate, cache=cache, progress=progress
+    )
+    # One measured surface: no spread over realisations, no grid check.
+    reference = ReferenceCurves((result,), seeds=(0,), grid=result.grid[0], convergence=None)
+    comparison = Comparison(scene, reference, model_curves(scene, loads))
+    if not reference.ok.any():
+        raise CommandError("the BEM gave no valid point on this map (see comparison.csv's status)")
+    rows = comparison.rows()
+    fits = _fits(comparison, result.stiffness, reference.ok) if args.fit else []
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "comparison.csv")
+    files = [str(out / "comparison.csv")]
+    if fits:
+        write_csv(fits, out / "fits.csv")
+        files.append(str(out / "fits.csv"))
+    title = f"{args.topography}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
+    files.append(plot_comparison(comparison, title, out / "comparison.png"))
+    fitted = "\n".join(
+        f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)"
+        + (
+            ""
+            if f["success"] and not f.get("warnings")
+            else f"  [{f.get('warnings') or f.get('error') or 'not converged'}]"
+        )
+        for f in fits
+    )
+    summary = (
+        f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
+        + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
+        + ")\n"
+        f"{comparison_table(rows, list(comparison.models))}\n"
+        + (
+            f"\nD, G of each model fitted to the BEM curve (the surface's own: D = {c.D:.4f}, "
+            f"G = {c.G:.4g} m):\n{fitted}\n"
+            if fits
+            else ""
+        )
+        + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result({"title": title, "rows": rows, "fits": fits, "files": files}, args.format, summary)
+    return 0

@@ -1,0 +1,172 @@
+"""Plots of a load sweep on the paper's dimensionless axes.
+
+Figures are `matplotlib.figure.Figure` objects written straight to PNG: no pyplot, so that
+drawing never selects a backend or touches the caller's matplotlib state.
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ..core import Solution
+from ..quantities import PARAMETERS
+from ..studies._plotting import figure, save_figure, subplots
+from ._report import flagged_reasons
+
+
+def _mark_loads(ax, F, mask, label, color="C3"):
+    """Loads without a value to draw, as ticks along the bottom of the axes at their loads."""
+    if mask.any():
+        ax.plot(
+            F[mask],
+            np.full(mask.sum(), 0.02),
+            "|",
+            ms=12,
+            color=color,
+            transform=ax.get_xaxis_transform(),
+            label=label,
+        )
+
+
+def _mark_flagged(ax, F, flagged, status):
+    """Flagged loads as ticks along the load axis: never at a made-up value."""
+    if flagged.any():
+        _mark_loads(ax, F, flagged, flagged_reasons(status) + " (no value)")
+
+
+def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
+    """Stiffness and largest spot against load (and regime shares if computed); returns the paths.
+
+    Only valid points are drawn as values; flagged loads, and loads where K = 0, are marked along
+    the load axis.
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    F = np.asarray(solution.load_star)
+    status = np.asarray(solution.status)
+    ok = status == 0
+    paths = []
+
+    fig, ax = subplots(figsize=(6, 4.2))
+    K = np.asarray(solution.stiffness_star)
+    # K = 0 (every spot plastic, Sec. 4.2) is a valid value that a log axis cannot show.
+    positive = ok & (K > 0)
+    if positive.any():
+        ax.loglog(F[positive], K[positive], "o-", ms=3, label="K*")
+    else:
+        ax.set_xscale("log")
+        ax.text(0.5, 0.5, "no positive stiffness at any load", transform=ax.transAxes, ha="center")
+    _mark_flagged(ax, F, ~ok, status)
+    _mark_loads(ax, F, ok & (K == 0), "K = 0: every spot plastic", color="C7")
+    ax.set(xlabel="F* = F / (E A_a)", ylabel="K* = K / (E sqrt(A_a))", title=title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    paths.append(save_figure(fig, out / "stiffness.png"))
+
+    fig, ax = subplots(figsize=(6, 4.2))
+    solved = np.isfinite(np.asarray(solution.a_l))
+    if solved.any():
+        ax.loglog(F[solved], np.asarray(solution.a_l_star)[solved], "o-", ms=3, label="a_l*")
+    else:
+        ax.set_xscale("log")
+    _mark_flagged(ax, F, ~solved, np.where(solved, 0, status))
+    ax.set(xlabel="F*", ylabel="a_l* = a_l / A_a", title="Largest contact spot (Fig. 3)")
+    ax.grid(True, which="both", alpha=0.3)
+    if (~solved).any():
+        ax.legend(fontsize=8)
+    paths.append(save_figure(fig, out / "largest_spot.png"))
+
+    if solution.load_share is not None:
+        fig, axes = subplots(1, 2, figsize=(10, 4), sharey=True)
+        for ax, share, what in (
+            (axes[0], solution.load_share, "load"),
+            (axes[1], solution.stiffness_share, "stiffness"),
+        ):
+            valid = np.all(np.isfinite(np.asarray(share)), axis=-1)
+            if valid.any():
+                ax.stackplot(F[valid], np.asarray(share)[valid].T, labels=solution.regimes, alpha=0.8)
+                ax.set_xscale("log")
+            ax.set(xlabel="F*", ylabel=f"share of {what}", ylim=(0, 1), title=f"{what} by regime")
+        if axes[1].collections:
+            axes[1].legend(loc="upper left")
+        paths.append(save_figure(fig, out / "regime_shares.png"))
+    return paths
+
+
+def fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness) -> Figure:
+    """Data and fitted curve with the fitted values and their 95 % intervals; residuals below."""
+    fig = figure((6.4, 6.0), rows=2)
+    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.4))
+    top.loglog(loads, stiffness, "o", ms=4, label="data")
+    if result.describes_data:
+        values = [
+            f"{name} = {result.values[name]:.4g} [{result.ci95[name][0]:.4g}, {result.ci95[name][1]:.4g}]"
+            + PARAMETERS[name].unit_suffix
+            for name in result.params
+        ]
+        label = "fit (95 % CI): " + "; ".join(values)
+    else:
+        values = [f"{name} = {result.values[name]:.4g}{PARAMETERS[name].unit_suffix}" for name in result.params]
+        label = "fit (no CI: the model does not describe the data): " + "; ".join(values)
+    top.loglog(fine_loads, fitted_stiffness, "-", label=label)
+    top.set(ylabel="stiffness K (N/m)", title=f"Fit of the stiffness curve ({result.method})")
+    top.grid(True, which="both", alpha=0.3)
+    top.legend(fontsize=7)
+    residuals = np.asarray(result.residuals)
+    used = np.isfinite(residuals)
+    bottom.semilogx(loads[used], residuals[used], "o", ms=4)
+    if (~used).any():
+        bottom.plot(loads[~used], np.zeros((~used).sum()), "x", color="C3", label="flagged at the optimum")
+        bottom.legend(fontsize=7)
+    rms = float(np.sqrt(np.mean(residuals[used] ** 2))) if used.any() else float("nan")
+    bottom.axhline(0.0, color="k", lw=0.8)
+    bottom.axhspan(-2 * rms, 2 * rms, color="C1", alpha=0.15, label=f"±2 rms ({rms:.3g})")
+    bottom.set(xlabel="load F (N)", ylabel="ln K_fit − ln K_data")
+    bottom.grid(True, which="both", alpha=0.3)
+    return fig
+
+
+def plot_fit(result, loads, stiffness, fine_loads, fitted_stiffness, path: pathlib.Path) -> str:
+    """`fit_figure` written to `path`."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return save_figure(fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness), path)
+
+
+def plot_approach(load_star, approach_m, reference_load, path: pathlib.Path) -> str:
+    """The load–approach curve δ(F) − δ(F0) against F* (MODEL.md §6)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = subplots(figsize=(6, 4.2))
+    ok = np.isfinite(approach_m)
+    ax.semilogx(load_star[ok], 1e9 * approach_m[ok], "o-", ms=3)
+    ax.axhline(0.0, color="k", lw=0.8, ls=":")
+    ax.set(
+        xlabel="F* = F / (E A_a)", ylabel="δ(F) − δ(F0) (nm)", title=f"Load–approach curve (F0 = {reference_load:g} N)"
+    )
+    ax.grid(True, which="both", alpha=0.3)
+    return save_figure(fig, path)
+
+
+def plot_dynamics(history, sweep_hz, sweep_amplitude, f_linear, preloads, resonance_hz, out: pathlib.Path) -> list[str]:
+    """Time history, frequency response and resonance against preload of the dynamic scene."""
+    out.mkdir(parents=True, exist_ok=True)
+    fig, ax = subplots(figsize=(6, 4.2))
+    ax.plot(1e3 * np.asarray(history.t), 1e9 * np.asarray(history.x))
+    ax.set(xlabel="t (ms)", ylabel="x (nm)", title="Time history at the drive frequency")
+    ax.grid(True, alpha=0.3)
+    paths = [save_figure(fig, out / "time_history.png")]
+    fig, ax = subplots(figsize=(6, 4.2))
+    ax.semilogy(sweep_hz, 1e9 * np.asarray(sweep_amplitude), "o-", ms=3)
+    ax.axvline(f_linear, color="k", ls=":", label=f"sqrt(K(F0)/m)/2π = {f_linear:.5g} Hz")
+    ax.set(xlabel="drive frequency (Hz)", ylabel="steady amplitude (nm)", title="Frequency response")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    paths.append(save_figure(fig, out / "frequency_response.png"))
+    fig, ax = subplots(figsize=(6, 4.2))
+    ok = np.isfinite(resonance_hz)
+    ax.loglog(preloads[ok], resonance_hz[ok], "o-", ms=3)
+    ax.set(xlabel="preload F0 (N)", ylabel="resonance frequency (Hz)", title="Resonance against preload")
+    ax.grid(True, which="both", alpha=0.3)
+    paths.append(save_figure(fig, out / "resonance_vs_preload.png"))
+    return paths

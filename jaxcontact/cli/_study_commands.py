@@ -1,0 +1,137 @@
+"""The commands that study the library or sweep it: figures, bench, accuracy, sweep."""
+
+from __future__ import annotations
+
+import pathlib
+
+from ._output import CommandError, print_result, progress_bar
+
+
+def cmd_figures(args) -> int:
+    from ..studies._figures import make_figures
+
+    progress = progress_bar(args.progress, "figures", "figure")
+    files = make_figures(args.out, progress=progress)
+    print_result({"files": files}, args.format, "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def cmd_bench(args) -> int:
+    from ..programs import exported_programs
+    from ..studies._bench import run_all
+    from ..studies._bench_report import format_results
+    from ._report import scene_record, to_json
+    from ._scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    progress = progress_bar(args.progress, "benchmarks", "step")
+    # Timed as a user's process calls the model: traced, not read from the command line's store.
+    with exported_programs(None):
+        results = run_all(spec.scene, progress=progress)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    text = f"{spec.title}\n" + format_results(results)
+    payload = {"scene": scene_record(spec), **results}
+    (out / "bench.txt").write_text(text + "\n")
+    (out / "bench.json").write_text(to_json(payload) + "\n")
+    files = [str(out / "bench.txt"), str(out / "bench.json")]
+    print_result({**payload, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def cmd_accuracy(args) -> int:
+    from ._scenefile import load_scene
+
+    try:
+        from ..studies._accuracy import format_study, plot_study, study
+    except ModuleNotFoundError as exc:
+        if exc.name != "mpmath":
+            raise
+        raise CommandError(
+            "the accuracy study needs mpmath for its reference: pip install 'jaxcontact[studies]'"
+        ) from None
+
+    spec = load_scene(args.scene)
+    options = spec.scene.model.options()
+    if options["model"] != "xia2024" or options["distribution"] != "mb":
+        raise CommandError("the accuracy study needs a scene with model 'xia2024' and distribution 'mb'")
+    progress = progress_bar(args.progress, "knobs", "knob")
+    result = study(spec.scene, progress=progress)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = [plot_study(result, out / "accuracy.png")]
+    print_result(
+        {**result, "files": files}, args.format, format_study(result) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
+    )
+    return 0
+
+
+def _grid(text: str, name: str, log: bool):
+    import numpy as np
+
+    try:
+        low, high, count = text.split(":")
+        low, high, count = float(low), float(high), int(count)
+    except ValueError:
+        raise CommandError(
+            f"--{name} {text!r} must be LOW:HIGH:COUNT, e.g. " + ("1e-11:1e-9:5" if log else "1.3:1.7:5")
+        ) from None
+    if count < 1 or high < low or (log and low <= 0):
+        raise CommandError(f"--{name} {text!r}: need COUNT >= 1 and LOW <= HIGH" + (" with LOW > 0" if log else ""))
+    return np.geomspace(low, high, count) if log else np.linspace(low, high, count)
+
+
+def cmd_sweep(args) -> int:
+    import jax
+
+    from ..applications import sweep
+    from ..quantities import Scales, status_message
+    from ._report import write_csv
+    from ._scenefile import load_scene
+
+    if args.distributed:
+        jax.distributed.initialize()
+    spec = load_scene(args.scene)
+    D, G = _grid(args.D, "D", log=False), _grid(args.G, "G", log=True)
+    result = sweep(spec.scene, D, G, spec.loads, progress=args.progress)
+    scales = Scales.of(spec.scene)
+    load_unit, stiffness_unit = float(scales.load), float(scales.stiffness)
+    rows = [
+        {
+            "D": float(d),
+            "G_m": float(g),
+            "F_N": float(F),
+            "F_star": float(F) / load_unit,
+            "a_l_m2": float(result.a_l[i, j, k]),
+            "K_N_per_m": float(result.stiffness[i, j, k]),
+            "K_star": float(result.stiffness[i, j, k]) / stiffness_unit,
+            "status": status_message(result.status[i, j, k]),
+        }
+        for i, d in enumerate(D)
+        for j, g in enumerate(G)
+        for k, F in enumerate(result.loads)
+    ]
+    files = []
+    if jax.process_index() == 0:
+        out = pathlib.Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        write_csv(rows, out / "sweep.csv")
+        files.append(str(out / "sweep.csv"))
+    flagged = sum(r["status"] != "ok" for r in rows)
+    text = (
+        f"{spec.title}: {D.size} D × {G.size} G × {result.loads.size} loads = {len(rows)} points on "
+        f"{result.devices} device(s), {flagged} flagged\n" + "\n".join(f"wrote {f}" for f in files)
+    )
+    print_result(
+        {
+            "title": spec.title,
+            "devices": result.devices,
+            "points": len(rows),
+            "flagged": flagged,
+            "files": files,
+            "rows": rows if args.format == "json" else [],
+        },
+        args.format,
+        text,
+    )
+    return 0

@@ -1,0 +1,165 @@
+"""`jaxcontact surface FILE` and the topography front end of `jaxcontact run --topography FILE`."""
+
+from __future__ import annotations
+
+import importlib.resources
+import math
+import pathlib
+import re
+
+from ._output import print_result
+from ._scenefile import DEFAULT_SCENE
+
+
+def add_topography_options(p) -> None:
+    p.add_argument("--tip-radius", type=float, help="stylus tip radius (m), where the file does not say it")
+    p.add_argument(
+        "--size",
+        type=float,
+        nargs="+",
+        help="physical size (m): L for a line scan, LX LY for a map; overrides the file's",
+    )
+    p.add_argument(
+        "--unit",
+        choices=("m", "mm", "µm", "um", "nm"),
+        help="unit of the heights (and of x in an x–z text profile) where the file gives none (default: m)",
+    )
+    p.add_argument("--band", type=float, nargs=2, metavar=("SHORT", "LONG"), help="fit band, wavelengths in m")
+    p.add_argument("--fill-undefined", action="store_true", help="fill NaN or missing points by interpolation")
+    p.add_argument("--groups", type=int, help="independent tiles or segments for the uncertainty (default 16/9, 8)")
+
+
+def characterise_file(args, method: str = "psd"):
+    """Read and characterise `args.topography` (or `args.file`) as the options say."""
+    from ..topography import characterise, read
+
+    path = getattr(args, "file", None) or args.topography
+    size = None if args.size is None else (args.size[0] if len(args.size) == 1 else tuple(args.size))
+    topography = read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+    return topography, characterise(topography, band=args.band, method=method, groups=args.groups)
+
+
+def scene_text(characterisation, title: str) -> str:
+    """A whole scene file: the default scene with its surface replaced by the characterised one."""
+    default = importlib.resources.files("jaxcontact").joinpath("scenes", DEFAULT_SCENE).read_text()
+    rest = default[default.index("[material]") :]
+    return f'title = "{title}"\n\n{characterisation.scene_fragment()}\n{rest}'
+
+
+def describe(c) -> dict:
+    """The JSON record of a characterisation: values, conventions named, intervals, diagnostics."""
+    return {
+        "method": c.method,
+        "kind": c.kind,
+        "D": c.D,
+        "G_wm_m": c.G,
+        "G_structure_function_m": c.G_structure_function,
+        "l_min_m": c.l_min,
+        "band_m": list(c.band),
+        "stderr": {"D": c.stderr["D"], "G_wm_m": c.stderr["G"]},
+        "ci95": {"D": list(c.ci95["D"]), "G_wm_m": list(c.ci95["G"])},
+        "correlation_D_lnG": c.correlation,
+        "groups": c.groups,
+        "reliability_cutoff_m": c.reliability_cutoff,
+        "diagnostics": list(c.diagnostics),
+    }
+
+
+def summary_text(c, name: str) -> str:
+    lines = [
+        f"{name}: {c.kind} topography, {c.method} over wavelengths {c.band[0]:.4g}-{c.band[1]:.4g} m "
+        f"({c.groups} independent {'tiles' if c.kind == 'areal' else 'segments'})",
+        f"  D     = {c.D:.4f} ± {c.stderr['D']:.4f}   95 % [{c.ci95['D'][0]:.4f}, {c.ci95['D'][1]:.4f}]",
+        f"  G     = {c.G:.4g} m (W-M convention, the model's) ×/÷ {math.exp(c.stderr['G'] / c.G):.3g}   "
+        f"95 % [{c.ci95['G'][0]:.4g}, {c.ci95['G'][1]:.4g}] m",
+        f"  G_sf  = {c.G_structure_function:.4g} m (structure-function convention, MODEL.md §8)",
+        f"  l_min = {c.l_min:.4g} m (the band's short end; K depends on it)",
+        f"  corr(D, ln G) = {c.correlation:+.3f}: G is extrapolated to q = 1 rad/m and moves with D",
+    ]
+    if c.reliability_cutoff:
+        lines.append(f"  tip reliability cutoff: {c.reliability_cutoff:.4g} m")
+    lines += [f"  diagnostic: {d}" for d in c.diagnostics]
+    return "\n".join(lines)
+
+
+def _spectrum_figure(c, ylabel, xlabel, path, wavevector: bool):
+    import numpy as np
+
+    from ._plots import save_figure, subplots
+
+    fig, ax = subplots()
+    x, y = c.spectrum
+    keep = (x > 0) & (y > 0)
+    ax.loglog(x[keep], y[keep], ".", ms=2, color="0.5", label="measured (mean of groups)")
+    ax.loglog(*c.fit, "-", color="C3", label=f"fit: D = {c.D:.3f}")
+    ends = sorted(2 * np.pi / np.array(c.band)) if wavevector else list(c.band)
+    ax.axvspan(*ends, color="C0", alpha=0.12, label="fit band")
+    if c.reliability_cutoff:
+        cut = 2 * np.pi / c.reliability_cutoff if wavevector else c.reliability_cutoff
+        ax.axvline(cut, color="k", ls="--", lw=1, label="tip reliability cutoff")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
+def cmd_surface(args) -> int:
+    from ..numerics import InputError
+    from ..topography import characterise
+
+    topography, c = characterise_file(args)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    name = pathlib.Path(args.file).name
+    files = [_spectrum_figure(c, "C1D (m³)", "q (rad/m)", out / "psd.png", True)]
+    notes = []
+    try:
+        sf = characterise(topography, method="structure-function", groups=args.groups)
+        files.append(_spectrum_figure(sf, "S(τ) (m²)", "τ (m)", out / "structure_function.png", False))
+    except InputError as exc:
+        sf = None
+        notes.append(f"structure function: {exc}")
+    scene_path = out / "surface.toml"
+    title = re.sub(r'["\\]', "", f"{name} ({c.kind}, {c.method} fit)")
+    scene_path.write_text(scene_text(c, title))
+    files.append(str(scene_path))
+    text = summary_text(c, name)
+    if sf is not None:
+        text += f"\n  structure function: D = {sf.D:.4f} ± {sf.stderr['D']:.4f}, G = {sf.G:.4g} m (W-M)"
+    text += "".join(f"\n  {n}" for n in notes) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
+    payload = {"file": str(args.file), "psd": describe(c), "structure_function": None if sf is None else describe(sf)}
+    print_result({**payload, "notes": notes, "files": files}, args.format, text)
+    return 0
+
+
+def topography_scene(spec, args):
+    """The scene with its surface characterised from `args.topography`, and K(F)'s 95 % band."""
+    import dataclasses
+
+    import equinox as eqx
+
+    from ..topography import stiffness_band
+
+    _, c = characterise_file(args)
+    scene = eqx.tree_at(lambda s: s.surface, spec.scene, c.surface)
+    title = f"{pathlib.Path(args.topography).name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
+    return dataclasses.replace(spec, scene=scene, title=title), stiffness_band(c, scene, spec.loads)
+
+
+def plot_band(band, title, path) -> str:
+    """K(F) with its 95 % band from the surface's (D, G) uncertainty."""
+    import numpy as np
+
+    from ._plots import save_figure, subplots
+
+    fig, ax = subplots()
+    positive = np.isfinite(band.stiffness) & (band.stiffness > 0)
+    ax.loglog(band.load[positive], band.stiffness[positive], "-", color="C0", label="K at the surface's D, G")
+    ax.fill_between(
+        band.load[positive], band.lower[positive], band.upper[positive], color="C0", alpha=0.25, label="95 % band"
+    )
+    ax.set_xlabel("F (N)")
+    ax.set_ylabel("K (N/m)")
+    ax.set_title(title, fontsize=8)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)

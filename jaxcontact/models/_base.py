@@ -1,0 +1,222 @@
+"""What a contact model is, and the load-controlled solve shared by every model with a largest spot.
+
+A model is an `eqx.Module` passed in as a choice (`Scene(..., model=Xia2024(interaction=...))`),
+as diffrax takes `solver=Tsit5()`. The solve asks it one thing: given the scene's dimensionless
+groups, a function from one load `F*` to a `PointResult` (`AbstractContactModel.point_solver`).
+
+Models of the Majumdar–Bhushan family describe the joint by its largest contact spot `a_l`;
+they subclass `AbstractLargestSpotModel`, say how to build their `AbstractJoint` (the load,
+stiffness and area integrals as functions of `ln a_l*`), and inherit the a_l solve, written once
+here. A model with another state variable (the separation of Greenwood–Williamson or Persson)
+subclasses `AbstractContactModel` and writes its own `point_solver`.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+import typing
+from collections.abc import Callable
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Bool, Float, Int
+
+from ..numerics import solve_increasing
+from ..numerics._elementwise import unrolled_sum
+from ..quantities import DimensionlessScene, Status
+from ._load_pieces import AbstractLoadPieces
+
+# A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
+# the elastic comparators (GW, Persson), whose loads are flagged out of range there.
+LINEAR_ELASTIC_LIMIT = 1.0
+
+
+class JointResponse(eqx.Module):
+    """Totals of the joint at one state (dimensionless), split by the model's regimes.
+
+    **Fields:** `regime_load` (F* per regime), `regime_stiffness` (K* per regime), `real_area`
+    (A_r*), `breakdown` (True where the model is not valid at this load, e.g. the "paper"
+    interaction's ω' vanishes inside the range).
+    """
+
+    regime_load: Float[Array, " regimes"]
+    regime_stiffness: Float[Array, " regimes"]
+    real_area: Float[Array, ""]
+    breakdown: Bool[Array, ""]
+
+
+class PointResult(eqx.Module):
+    """One load point, dimensionless: `ln a_l*`, the joint's response there, and the status."""
+
+    log_a_l: Float[Array, ""]
+    response: JointResponse
+    status: Int[Array, ""]
+
+    @property
+    def stiffness_star(self):
+        """K* where the point is valid, NaN otherwise."""
+        K = unrolled_sum(self.response.regime_stiffness)
+        return jnp.where(self.status == Status.OK, K, jnp.nan)
+
+
+class AbstractContactModel(eqx.Module):
+    """A statistical model of the joint's normal contact: load ↦ stiffness, real area, status.
+
+    **Class attributes:** `name` (the registry's key, used in scene files and reports) and
+    `regimes` (names of the slots of `Solution.load_share` and `stiffness_share`).
+    """
+
+    name: eqx.AbstractClassVar[str]
+    regimes: eqx.AbstractClassVar[tuple[str, ...]]
+
+    @abc.abstractmethod
+    def point_solver(
+        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
+    ) -> Callable[[Float[Array, ""]], PointResult]:
+        """Set up everything that does not depend on the load; returns `F* ↦ PointResult`.
+
+        **Arguments:** `s`, the scene's dimensionless groups (valid parameters: the caller has
+        put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
+        """
+
+    @abc.abstractmethod
+    def kink_log_loads(self, s: DimensionlessScene) -> Float[Array, " kinks"]:
+        """`ln F*` where the slope of K(F) jumps (an empty array for a smooth model); integrators
+        of K(F) step to them."""
+
+    @typing.final
+    def options(self) -> dict[str, str]:
+        """The model's choices by name, as scene files and reports spell them: `model`, then every
+        field that is a named choice, and the choices inside those (an interaction's quadrature)."""
+        return {"model": self.name, **_named_choices(self)}
+
+
+def _named_choices(module: eqx.Module) -> dict[str, str]:
+    choices = {}
+    for field in dataclasses.fields(module):
+        value = getattr(module, field.name)
+        if isinstance(value, eqx.Module) and isinstance(getattr(type(value), "name", None), str):
+            choices[field.name] = value.name
+            choices.update(_named_choices(value))
+    return choices
+
+
+class AbstractJoint(eqx.Module):
+    """A load–area–stiffness model of the whole joint as a function of `ln a_l*`."""
+
+    log_a_min: eqx.AbstractVar[Float[Array, ""]]
+
+    @abc.abstractmethod
+    def regime_load(self, log_a_l) -> Float[Array, " regimes"]:
+        """Dimensionless load carried in each regime."""
+
+    def total_load(self, log_a_l):
+        """`F_t*(a_l)`, Eq. (35); increasing in `a_l`."""
+        return unrolled_sum(self.regime_load(log_a_l))
+
+    @abc.abstractmethod
+    def kinks(self) -> Float[Array, " kinks"]:
+        """`ln a_l*` where the slope of `F_t` jumps (a regime boundary), increasing."""
+
+    def knots(self) -> Float[Array, " knots"]:
+        """Ends of the smooth pieces of `F_t` in `ln a_l*`: `ln a_min*`, the kinks (clipped), 0."""
+        return jnp.concatenate(
+            [self.log_a_min[None], jnp.clip(self.kinks(), self.log_a_min, 0.0), jnp.zeros_like(self.log_a_min)[None]]
+        )
+
+    @abc.abstractmethod
+    def load_pieces(self) -> AbstractLoadPieces:
+        """`F_t` piece by piece between its kinks, for the load-controlled solve: for any joint
+        `GenericLoadPieces.of(self)`; a joint with closed-form pieces can do better."""
+
+    @abc.abstractmethod
+    def response(self, log_a_l, log_load) -> JointResponse:
+        """Everything at the solved `a_l`; `log_load = ln F*` sets the nominal pressure."""
+
+
+def _piece_residual(log_a_l, args):
+    pieces, piece, log_load = args
+    return pieces.log_load(log_a_l, piece) - log_load, None
+
+
+def _piece_residual_slope(log_a_l, args):
+    pieces, piece, _ = args
+    return pieces.log_load_slope(log_a_l, piece)
+
+
+class AbstractLargestSpotModel(AbstractContactModel):
+    """A model whose state is the largest contact spot `a_l` (MODEL.md §4): load control solves
+    `F_t(a_l) = F` for it.
+
+    Subclasses say how to build their joint (`joint`); the solve is this class's.
+    """
+
+    @abc.abstractmethod
+    def joint(self, s: DimensionlessScene) -> AbstractJoint:
+        """The dimensionless joint of this model for the scene's groups `s`."""
+
+    @typing.final
+    def kink_log_loads(self, s):
+        """Where `a_l` crosses a regime boundary: the loads at the kinks of `F_t` (`AbstractJoint.kinks`)."""
+        return self.joint(s).load_pieces().knot_log_loads[1:-1]
+
+    @typing.final
+    def point_solver(self, s, *, tolerance, max_steps):
+        """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (MODEL.md §4).
+
+        `F_t` at the kinks (once per scene) tells which smooth piece of `F_t` holds each load
+        (`load_pieces`); Newton's method then runs on that piece alone, from the piece's log-log
+        interpolant and with its closed-form slope (`rootfind`), and the root is differentiated
+        by the implicit function theorem, `da_l/dθ = -(∂F_t/∂θ)/(∂F_t/∂a_l)`. A point that
+        cannot be computed is solved at a harmless stand-in load and given a non-zero status.
+        """
+        joint = self.joint(s)
+        pieces = joint.load_pieces()
+        log_load_lowest = pieces.knot_log_loads[0]  # -inf where any F > 0 is reachable
+        log_load_highest = pieces.knot_log_loads[-1]
+        # Failed points are solved at a harmless stand-in: the load that puts a_l midway (in logs).
+        log_load_middle = jnp.log(joint.total_load(0.5 * joint.log_a_min))
+        joint_valid = jnp.isfinite(log_load_highest) & jnp.isfinite(log_load_middle)
+        # Where F_t(a_min) = 0, loads near it put a_l a hair above a_min and the totals are
+        # proportional to ln(a_l/a_min), which round-off in ln a_l (a few ulps of |ln a_min|)
+        # cannot resolve below this: such points are flagged, not returned as numbers.
+        eps = float(jnp.finfo(jnp.result_type(joint.log_a_min)).eps)
+        target = max(1e-8, 1e3 * eps)  # relative accuracy asked of K: 1e-8 in float64, 1e-4 in float32
+        smallest_resolved = 4.0 * eps * jnp.abs(joint.log_a_min) / target
+        starts_at_zero = ~jnp.isfinite(log_load_lowest)
+
+        def one_point(F_star) -> PointResult:
+            valid = jnp.isfinite(F_star) & (F_star > 0)
+            log_load = jnp.log(jnp.where(valid, F_star, 1.0))
+            in_range = (log_load > log_load_lowest) & (log_load <= log_load_highest)
+            usable = valid & in_range
+            log_load = jnp.where(usable, log_load, log_load_middle)
+            piece, lower, upper, guess = pieces.locate(log_load)
+            log_a_l, converged = solve_increasing(
+                _piece_residual,
+                guess,
+                (pieces, piece, log_load),
+                lower,
+                upper,
+                tolerance=tolerance,
+                max_steps=max_steps,
+                slope=_piece_residual_slope,
+            )
+            response = joint.response(log_a_l, log_load)
+            unresolved = starts_at_zero & (log_a_l - joint.log_a_min < smallest_resolved)
+            status = jnp.select(
+                [~joint_valid, ~valid, ~in_range, ~converged, unresolved, response.breakdown],
+                [
+                    Status.INVALID_PARAMETERS,
+                    Status.INVALID_LOAD,
+                    Status.LOAD_OUT_OF_RANGE,
+                    Status.NOT_CONVERGED,
+                    Status.UNRESOLVED_LOAD,
+                    Status.INTERACTION_BREAKDOWN,
+                ],
+                Status.OK,
+            ).astype(jnp.int32)
+            return PointResult(log_a_l, response, status)
+
+        return one_point

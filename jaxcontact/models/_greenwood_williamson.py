@@ -1,0 +1,136 @@
+"""Greenwood–Williamson with Gaussian summit heights (MODEL.md §9), from the scene's power spectrum.
+
+The summits' density `η`, mean radius `R` and height deviation `σ_s` come from the spectral
+moments `m0, m2, m4` of the surface's PSD on `[2π/L, 2π/l_min]` (`physics.spectrum`) by McCool's
+relations for an isotropic surface, with Nayak's bandwidth correction of the summit heights
+(McCool, Wear 107, 37, 1986):
+
+    α = m0 m4 / m2²,   η = m4 / (6π√3 m2),   R = 0.375 √(π/m4),   σ_s = √(1 - 0.8968/α) √m0.
+
+With `h = d/σ_s` the separation of the flat from the mean summit plane in units of `σ_s`, and
+`I_n(h) = ∫_h^∞ (s-h)^n φ(s) ds` (φ the standard normal density),
+
+    F = (4/3) E η A_a √R σ_s^(3/2) I_{3/2}(h),   K = 2 E η A_a √R σ_s^(1/2) I_{1/2}(h),
+    A_r = π η A_a R σ_s I_1(h).
+
+Load control solves `F(h) = F` for `h` (`dI_n/dh = -n I_{n-1}`, so `K = -dF/dd` holds exactly).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import ClassVar
+
+import jax.numpy as jnp
+
+from ..numerics import solve_increasing
+from ..physics._spectrum import profile_moments
+from ..quantities import Status
+from ._base import LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+
+# The separations solved for: above H_HIGHEST no load a float can hold is left; below H_LOWEST
+# the flat presses past the mean summit plane, where GW's independent summits do not apply (and
+# where `tail_moment`'s quadrature would lose accuracy). Loads whose summit contacts add up to
+# more than the nominal area, or above `LINEAR_ELASTIC_LIMIT`, are out of range too.
+H_LOWEST, H_HIGHEST = -1.0, 40.0
+LAGUERRE_NODES = 96
+
+
+@functools.cache
+def _laguerre(order: float):
+    from scipy import special  # only where GW is used: scipy.special takes ~0.3 s to import
+
+    return special.roots_genlaguerre(LAGUERRE_NODES, order)
+
+
+def log_tail_moment(order: float, h):
+    """`ln I_n(h)`, `I_n(h) = ∫_0^∞ t^n φ(h + t) dt`, for `h ≥ -1` (relative error < 1e-10 there).
+
+    `t = u/λ` with `λ = (h + √(h² + 4))/2` makes it a generalised Gauss–Laguerre integral
+    (weight `u^n e^-u`) of the smooth, bounded `exp((1 - (u-1)²)/(2λ²))`; in logs, so that the
+    tail `e^(-h²/2)` of a large separation underflows nothing.
+    """
+    nodes, weights = _laguerre(order)
+    dtype = jnp.result_type(h)
+    lam = 0.5 * (h + jnp.sqrt(h * h + 4.0))
+    log_terms = jnp.log(jnp.asarray(weights, dtype)) + (1.0 - (jnp.asarray(nodes, dtype) - 1.0) ** 2) / (
+        2.0 * lam[..., None] ** 2
+    )
+    log_sum = jnp.log(jnp.sum(jnp.exp(log_terms - jnp.max(log_terms, -1, keepdims=True)), -1)) + jnp.max(log_terms, -1)
+    return -0.5 * h * h - 0.5 * math.log(2.0 * math.pi) - (order + 1.0) * jnp.log(lam) + log_sum
+
+
+def summit_statistics(s):
+    """`(ln η*, ln R*, ln σ_s*)` of the scene's surface by McCool's relations (module docstring);
+    `η* = η A_a`, `R* = R/√A_a`, `σ_s* = σ_s/√A_a`.
+    """
+    m0, m2, m4 = profile_moments(s.D, s.log_G, s.log_a_min)
+    alpha = m0 * m4 / (m2 * m2)
+    log_eta = jnp.log(m4 / m2) - math.log(6.0 * math.pi * math.sqrt(3.0))
+    log_R = math.log(0.375) + 0.5 * (math.log(math.pi) - jnp.log(m4))
+    log_sigma = 0.5 * (jnp.log1p(-0.8968 / alpha) + jnp.log(m0))
+    return log_eta, log_R, log_sigma
+
+
+def _residual(y, args):
+    # Increasing in y = -h: ln F*(h) - ln F.
+    log_scale, log_load = args
+    return log_scale + log_tail_moment(1.5, -y) - log_load, None
+
+
+def _residual_slope(y, args):
+    return 1.5 * jnp.exp(log_tail_moment(0.5, -y) - log_tail_moment(1.5, -y))
+
+
+class GreenwoodWilliamson(AbstractContactModel):
+    """Greenwood & Williamson (1966) with Gaussian summits from the PSD's moments (MODEL.md §9);
+    every summit elastic (Hertz). One regime, "e". `Solution.a_l` is NaN: the model has no largest spot.
+    """
+
+    name: ClassVar[str] = "gw"
+    regimes: ClassVar[tuple[str, ...]] = ("e",)
+
+    def kink_log_loads(self, s):
+        return jnp.zeros((0,), jnp.result_type(s.D))
+
+    def point_solver(self, s, *, tolerance, max_steps):
+        log_eta, log_R, log_sigma = summit_statistics(s)
+        log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_sigma
+        log_stiffness_scale = math.log(2.0) + log_eta + 0.5 * log_R + 0.5 * log_sigma
+        log_area_scale = math.log(math.pi) + log_eta + log_R + log_sigma
+        dtype = jnp.result_type(log_eta)
+        highest = log_load_scale + log_tail_moment(1.5, jnp.asarray(H_LOWEST, dtype))
+        lowest = log_load_scale + log_tail_moment(1.5, jnp.asarray(H_HIGHEST, dtype))
+        valid_scene = jnp.isfinite(highest) & jnp.isfinite(lowest)
+
+        def one_point(F_star) -> PointResult:
+            valid = jnp.isfinite(F_star) & (F_star > 0)
+            log_load = jnp.log(jnp.where(valid, F_star, 1.0))
+            in_range = (log_load > lowest) & (log_load <= highest) & (F_star <= LINEAR_ELASTIC_LIMIT)
+            log_load = jnp.where(valid & in_range, log_load, 0.5 * (lowest + highest))
+            y, converged = solve_increasing(
+                _residual,
+                jnp.zeros_like(log_load) - 2.0,
+                (log_load_scale, log_load),
+                -H_HIGHEST,
+                -H_LOWEST,
+                tolerance=tolerance,
+                max_steps=max_steps,
+                slope=_residual_slope,
+            )
+            h = -y
+            load = jnp.exp(log_load_scale + log_tail_moment(1.5, h))
+            stiffness = jnp.exp(log_stiffness_scale + log_tail_moment(0.5, h))
+            area = jnp.exp(log_area_scale + log_tail_moment(1.0, h))
+            # Summits whose contact areas add up to more than the nominal area: past full contact.
+            in_range = in_range & (area <= 1.0)
+            status = jnp.select(
+                [~valid_scene, ~valid, ~in_range, ~converged],
+                [Status.INVALID_PARAMETERS, Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
+                Status.OK,
+            ).astype(jnp.int32)
+            response = JointResponse(load[None], stiffness[None], area, jnp.array(False))
+            return PointResult(jnp.full_like(h, jnp.nan), response, status)
+
+        return one_point

@@ -1,0 +1,144 @@
+"""The model of Xia, Qu & Liu (Aerospace 11, 472, 2024): the integrals over the size distribution
+(Sec. 4, Eqs. 30–39) of Kogut–Etsion asperities, small ones elastic, cut off at `a_min = l_min²`.
+
+For a given largest spot `a_l`, each regime's interval is clipped to `(a_min, a_l]` and
+
+    F_t(a_l) = Σ_{e,ep1,ep2,p} ∫ f(a) n(a) da        Eqs. (31)–(35)
+    K_t(a_l) = Σ_{e,ep1,ep2}   ∫ k(a) n(a) da        Eqs. (36)–(39)
+    A_r(a_l) = ∫ a n(a) da
+
+`F_t` does not depend on the interaction (MODEL.md §4): the paper's Eq. (31) writes f through ω,
+and with ω = a/(πR) that is Eq. (5) exactly. Without interaction all of these are power-law
+integrals with closed forms; with interaction the stiffness is the closed form plus the
+interaction's correction (`AbstractInteraction.corrections`).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ..numerics import PowerLaw, check_instance
+from ..physics import (
+    AbstractDistribution,
+    AbstractInteraction,
+    AbstractSpotStiffness,
+    FamilyDerivative,
+    MajumdarBhushan,
+    PaperInteraction,
+    interference,
+    kogut_etsion_laws,
+    regime_edges,
+    size_distribution,
+)
+from ..quantities import DimensionlessScene
+from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from ._load_pieces import PowerLawLoadPieces
+
+REGIMES = ("e", "ep1", "ep2", "p")
+# Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
+# not jnp arrays: a module-level array would freeze the precision that was active at import.
+_HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
+
+
+class Xia2024(AbstractLargestSpotModel):
+    """Xia, Qu & Liu (2024), MODEL.md §2–4: Kogut–Etsion regimes (e, ep1, ep2, p) over the
+    Majumdar–Bhushan size distribution, with interaction between asperities.
+
+    **Arguments:**
+
+    - `interaction`: `PaperInteraction()` (the default, `ω = ξ - σ` as Eqs. 23–26 print),
+      `SeriesInteraction()` (`ω = ξ + σ`) or `NoInteraction()`; the first two take the quadrature
+      of their correction (`PaperInteraction(quadrature=GaussLegendre(32))`).
+    - `distribution`: `MajumdarBhushan()` (Eq. 30, the default) or `WangKomvopoulos()`.
+    - `spot_stiffness`: `FamilyDerivative()` (the default, Eqs. 27–29, `k = f'/ξ'`) or `Sneddon()`
+      (`k = 2E√(a/π)`, one circular spot's stiffness; MODEL.md §9), divided by `1 ± r` alike.
+    """
+
+    name: ClassVar[str] = "xia2024"
+    regimes: ClassVar[tuple[str, ...]] = REGIMES
+    interaction: AbstractInteraction = PaperInteraction()
+    distribution: AbstractDistribution = MajumdarBhushan()
+    spot_stiffness: AbstractSpotStiffness = FamilyDerivative()
+
+    def __check_init__(self):
+        check_instance("interaction", self.interaction, AbstractInteraction)
+        check_instance("distribution", self.distribution, AbstractDistribution)
+        check_instance("spot_stiffness", self.spot_stiffness, AbstractSpotStiffness)
+
+    def joint(self, s: DimensionlessScene) -> Xia2024Joint:
+        load_laws, log_a_c = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)
+        interference_law = interference(s.D, s.log_G)
+        return Xia2024Joint(
+            D=s.D,
+            log_a_min=s.log_a_min,
+            log_density=self.distribution.log_scale(s.D),
+            edges=regime_edges(log_a_c),
+            load_laws=load_laws,
+            interference_law=interference_law,
+            spot_law=self.spot_stiffness.law(load_laws, interference_law),
+            interaction=self.interaction,
+        )
+
+
+class Xia2024Joint(AbstractJoint):
+    """Xia, Qu & Liu (2024): Kogut–Etsion regimes, small asperities elastic, cutoff at `a_min`."""
+
+    D: Float[Array, ""]
+    log_a_min: Float[Array, ""]
+    log_density: Float[Array, ""]
+    edges: Float[Array, " 5"]
+    load_laws: PowerLaw
+    interference_law: PowerLaw
+    spot_law: PowerLaw  # k(a) without interaction, per regime
+    interaction: AbstractInteraction
+
+    def intervals(self, log_a_l):
+        """Each regime's range of `ln a`, clipped to `(ln a_min, ln a_l]`; empty ones have length 0."""
+        lower = jnp.clip(self.edges[:-1], self.log_a_min, log_a_l)
+        upper = jnp.clip(self.edges[1:], self.log_a_min, log_a_l)
+        return lower, upper
+
+    def distribution(self, log_a_l) -> PowerLaw:
+        return size_distribution(self.D, log_a_l, self.log_density)
+
+    def kinks(self):
+        return self.edges[1:-1]
+
+    def load_pieces(self) -> PowerLawLoadPieces:
+        return PowerLawLoadPieces.build(self.knots(), self.D / 2.0, self.load_laws * self.distribution(0.0))
+
+    def regime_load(self, log_a_l):
+        """Eqs. (31)–(34): `∫ f(a) n(a) da` over each regime, in closed form."""
+        lower, upper = self.intervals(log_a_l)
+        return (self.load_laws * self.distribution(log_a_l)).integral(lower, upper)
+
+    def regime_stiffness(self, log_a_l, log_load):
+        """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
+
+        `k = k₀/(1 ± r)` (`k₀ = f'/ξ'`, or Sneddon's `2E√(a/π)`: `spot_law`): the closed form of
+        `∫ k₀ n da` plus the interaction's correction (`AbstractInteraction.corrections`).
+        """
+        lower, upper = self.intervals(log_a_l)
+        has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
+        integrand = self.spot_law * self.distribution(log_a_l)
+        closed_form = integrand.integral(lower, upper) * has_stiffness
+        # Plastic spots have no stiffness: only the first three regimes have a correction.
+        rows = slice(0, 3)
+        density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
+        corrections, breakdown = self.interaction.corrections(
+            density, self.load_laws[rows], self.interference_law, log_load, lower[rows], upper[rows]
+        )
+        # Stacked last, so that each regime stays its own elementwise chain (see `paper_correction`).
+        return jnp.stack([closed_form[i] + c for i, c in enumerate(corrections)] + [closed_form[3]]), breakdown
+
+    def real_area(self, log_a_l):
+        """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""
+        area_law = self.distribution(log_a_l) * PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D))
+        return area_law.integral(self.log_a_min, jnp.maximum(log_a_l, self.log_a_min))
+
+    def response(self, log_a_l, log_load):
+        stiffness, breakdown = self.regime_stiffness(log_a_l, log_load)
+        return JointResponse(self.regime_load(log_a_l), stiffness, self.real_area(log_a_l), breakdown)

@@ -1,0 +1,155 @@
+"""Quadrature in log-area, and the quadrature choices a model takes as objects.
+
+Only the interaction stiffness needs it (every other integral of the model has a closed
+form). Integrands span many decades of `a`, so the variable is `t = ln a`, in which they are
+smooth and slowly varying.
+"""
+
+from __future__ import annotations
+
+import abc
+import functools
+import typing
+from typing import ClassVar
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._pole_integral import PoleIntegral
+from ._validate import InputError
+
+
+@functools.cache
+def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights on [-1, 1] (numpy's `leggauss`, computed once per node count)."""
+    return np.polynomial.legendre.leggauss(nodes)
+
+
+def integrate_log_area(integrand, log_lower, log_upper, nodes: int):
+    """`∫ g(t) dt` over `[log_lower, log_upper]` (elementwise over the bounds' shape).
+
+    **Arguments:**
+
+    - `integrand`: `g(t)`, the integrand with respect to `t = ln a` (that is, `a · h(a)` for
+      `∫ h(a) da`); called with `t` of shape `bounds.shape + (nodes,)`, it returns the same shape.
+    - `log_lower`, `log_upper`: bounds, of equal shape; an empty interval gives 0.
+    - `nodes`: number of Gauss–Legendre nodes per interval (static).
+    """
+    x, w = gauss_legendre(nodes)
+    half = 0.5 * (log_upper - log_lower)[..., None]
+    mid = 0.5 * (log_upper + log_lower)[..., None]
+    t = mid + half * jnp.asarray(x, dtype=half.dtype)
+    return jnp.sum(jnp.asarray(w, dtype=half.dtype) * integrand(t), axis=-1) * half[..., 0]
+
+
+class AbstractQuadrature(eqx.Module):
+    """How the interaction part of the stiffness (the one integral without a closed form) is done.
+
+    Every quadrature does the pole integral of the "paper" interaction (`pole_integrals`); the row
+    quadratures (`AbstractRowQuadrature`) also do any smooth integrand (`integrate_rows`).
+    """
+
+    name: eqx.AbstractClassVar[str]
+
+    @abc.abstractmethod
+    def pole_integrals(
+        self, power: Float[Array, " rows"], log_coeff, log_u_lower, log_u_upper
+    ) -> list[Float[Array, ""]]:
+        """`e^log_coeff ∫ u^power / (1 - u) du` from `u_lower` to `u_upper` (`u < 1`, `power ≥ 2`),
+        one scalar per row, each computed as its own chain of operations (`interaction_integral`)."""
+
+
+class PowerSeries(AbstractQuadrature):
+    """No nodes: the pole integral summed to round-off (`pole_integral`). The "paper" interaction's
+    default; it does no other integral, so the "series" interaction cannot take it."""
+
+    name: ClassVar[str] = "power-series"
+
+    def pole_integrals(self, power, log_coeff, log_u_lower, log_u_upper):
+        poles = PoleIntegral.build(power)
+        return [
+            poles[i](log_u_upper[i], log_coeff[i]) - poles[i](log_u_lower[i], log_coeff[i])
+            for i in range(power.shape[0])
+        ]
+
+
+class AbstractRowQuadrature(AbstractQuadrature):
+    """A quadrature rule for any smooth integrand, applied row by row (one row per regime)."""
+
+    @abc.abstractmethod
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        """`∫ integrand(t, *row_args[i]) dt` over `[log_lower[i], log_upper[i]]`, one result per row.
+
+        **Arguments:**
+
+        - `integrand`: elementwise in `t` and in the row arguments (it broadcasts).
+        - `row_args`: tuple of arrays with one entry per row (the regime's coefficients).
+        - `log_lower`, `log_upper`: the rows' bounds; an empty interval gives 0.
+        """
+
+    @typing.final
+    def pole_integrals(self, power, log_coeff, log_u_lower, log_u_upper):
+        """By this rule in `w = -ln(1 - u)`, where the integral is `∫ e^log_coeff u^power dw`: bounded
+        and smooth, over an interval that grows only like `-ln(1 - u_max)` as the pole approaches.
+        The power series does the same integral exactly; this is its cross-check and the accuracy
+        study's quadrature knob."""
+        # u < 1 inside every interval the caller keeps; an empty one may lie past the pole (a_min
+        # beyond breakdown), and is clamped there so that its zero length still gives exactly 0.
+        below_pole = -float(jnp.finfo(log_u_lower.dtype).eps)
+        tiny = float(jnp.finfo(log_u_lower.dtype).tiny)
+
+        def integrand(w, log_coeff, power):
+            # u^power with u = 1 - e^(-w). u = 0 only on an empty interval (w = 0), where the floor
+            # gives tiny^power = 0 without a branch (power ≥ 2): a `where` here would stop XLA
+            # from vectorising the loop.
+            u = jnp.maximum(-jnp.expm1(-w), tiny)
+            return jnp.exp(log_coeff + power * jnp.log(u))
+
+        w_lower = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_lower, below_pole)))
+        w_upper = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_upper, below_pole)))
+        return [
+            self.integrate_rows(integrand, (log_coeff[i], power[i]), w_lower[i], w_upper[i])
+            for i in range(power.shape[0])
+        ]
+
+
+class GaussLegendre(AbstractRowQuadrature):
+    """`nodes` fixed Gauss–Legendre nodes per regime (static, 2 to 1024)."""
+
+    name: ClassVar[str] = "gauss-legendre"
+    nodes: int = eqx.field(static=True, default=16)
+
+    def __check_init__(self):
+        if isinstance(self.nodes, bool) or not isinstance(self.nodes, int) or not 2 <= self.nodes <= 1024:
+            raise InputError(f"quadrature_nodes = {self.nodes!r} must be an integer in [2, 1024]")
+
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        expanded = tuple(a[..., None] for a in row_args)
+        return integrate_log_area(lambda t: integrand(t, *expanded), log_lower, log_upper, self.nodes)
+
+
+class Adaptive(AbstractRowQuadrature):
+    """quadax's adaptive Gauss–Kronrod (`quadgk`) to relative `tolerance` (static, in (0, 0.1))."""
+
+    name: ClassVar[str] = "adaptive"
+    tolerance: float = eqx.field(static=True, default=1e-10)
+
+    def __check_init__(self):
+        if not 0.0 < self.tolerance < 1e-1:
+            raise InputError(f"quadrature_tolerance = {self.tolerance!r} must be in (0, 0.1)")
+
+    def integrate_rows(self, integrand, row_args, log_lower, log_upper):
+        import quadax  # only where an adaptive quadrature is traced: not a cost of `import jaxcontact`
+
+        nonempty = log_upper > log_lower
+        upper = jnp.where(nonempty, log_upper, log_lower + 1.0)  # quadgk wants a proper interval
+
+        def one_row(lo, hi, *args):
+            value, _ = quadax.quadgk(
+                integrand, jnp.stack([lo, hi]), args=args, epsabs=0.0, epsrel=self.tolerance, max_ninter=100
+            )
+            return value
+
+        return jnp.where(nonempty, jnp.vectorize(one_row)(log_lower, upper, *row_args), 0.0)

@@ -1,0 +1,21 @@
+"""What every layer shares: the joint's parameters (`Surface`, `Material`) and their valid ranges
+(`PARAMETERS`), the units that make a scene dimensionless (`Scales`, `DimensionlessScene`), and the
+per-point status codes (`Status`)."""
+
+from ._domain import PARAMETERS, ParameterSpec, implausible
+from ._parameters import Material, Surface
+from ._scales import DimensionlessScene, Scales, nondimensionalise
+from ._status import Status, status_message
+
+__all__ = [
+    "DimensionlessScene",
+    "implausible",
+    "Material",
+    "nondimensionalise",
+    "PARAMETERS",
+    "ParameterSpec",
+    "Scales",
+    "Status",
+    "status_message",
+    "Surface",
+]

@@ -1,0 +1,276 @@
+"""D, G and l_min of a measured or synthetic topography, with uncertainty (MODEL.md §8)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from scipy import special, stats
+
+from ..numerics._validate import InputError, assigned, check_choice, spelled
+from ..quantities import Surface
+from . import _spectra as spectra
+from ._conventions import convert_G, log_G_from_profile_prefactor, structure_function_constant
+
+METHODS = ("psd", "structure-function")
+# The shortest wavelength fitted, in grid spacings: near the grid's Nyquist wavelength the line
+# scans of a band-limited areal map lose the part of their spectrum beyond the grid (the
+# qy-integral is truncated), and windowing leaks power there.
+SHORTEST_IN_PIXELS = 10
+# The longest wavelength fitted, as a fraction of a group's scan length: a few wavelengths must
+# fit in every segment for its spectrum to be an estimate.
+LONGEST_FRACTION = {"psd": 0.25, "structure-function": 0.02}
+# (The structure function of a finite, detrended scan falls below the power law at lags that are
+# a sizeable fraction of it, by 10-30 % at a sixteenth for D = 1.3: its band stops far shorter.)
+
+
+@dataclasses.dataclass(frozen=True)
+class Characterisation:
+    """What `characterise` found. Lengths in m; G in the W-M convention unless named otherwise.
+
+    **Fields:** `D`; `G` (W-M, the model's); `G_structure_function` (the same surface's G in the
+    structure-function convention of MODEL.md §8); `l_min` (the band's short end); `band` (short,
+    long wavelength of the fit, m); `method`; `stderr` and `ci95` (dicts for D and G, Student-t
+    over the groups; G's interval is exp(ln G ± t·se)); `covariance` of (D, ln G) and their
+    `correlation`; `groups` (independent groups of line scans or segments) and `estimates`
+    (their (D, ln G)); `spectrum` (x, y: `q` and mean `C1D`, or `τ` and `S(τ)`); `fit` (x, y of
+    the fitted power law over the band); `diagnostics` (why D may not mean much; empty if none);
+    `kind` ("profile" or "areal"); `reliability_cutoff` (m, from the tip radius, or None).
+    """
+
+    D: float
+    G: float
+    G_structure_function: float
+    l_min: float
+    band: tuple[float, float]
+    method: str
+    stderr: dict
+    ci95: dict
+    covariance: np.ndarray
+    correlation: float
+    groups: int
+    estimates: np.ndarray
+    spectrum: tuple[np.ndarray, np.ndarray]
+    fit: tuple[np.ndarray, np.ndarray]
+    diagnostics: tuple[str, ...]
+    kind: str
+    reliability_cutoff: float | None
+
+    @property
+    def surface(self):
+        """The `jaxcontact.Surface` (D, G, l_min) for a scene."""
+        return Surface(D=self.D, G=self.G, l_min=self.l_min)
+
+    def covers(self, D: float, G: float, level: float = 0.95) -> bool:
+        """Whether (D, G) lies inside the joint `level` confidence region (Hotelling's T² over the groups)."""
+        n = self.groups
+        difference = np.array([D - self.D, math.log(G) - math.log(self.G)])
+        t2 = difference @ np.linalg.solve(self.covariance, difference)
+        return bool(t2 <= 2 * (n - 1) / (n - 2) * stats.f.ppf(level, 2, n - 2))
+
+    def scene_fragment(self) -> str:
+        """The `[surface]` table of a scene file, with where each value came from."""
+        lo, hi = self.ci95["D"]
+        glo, ghi = self.ci95["G"]
+        return (
+            f"[surface]\n# from the {self.method} of a {self.kind} topography, fitted over wavelengths "
+            f"{self.band[0]:.4g}-{self.band[1]:.4g} m\n"
+            f"D = {self.D:.6g}  # 95 % interval [{lo:.6g}, {hi:.6g}]\n"
+            f"G = {self.G:.6g}  # m, W-M convention (structure-function convention: "
+            f"{self.G_structure_function:.6g} m); 95 % interval [{glo:.4g}, {ghi:.4g}]\n"
+            f"l_min = {self.l_min:.6g}  # m, the short end of the fit band: K depends on it "
+            "(K ∝ a_min^((1-D)/2))\n"
+        )
+
+
+def characterise(topography, *, band=None, method: str = "psd", groups: int | None = None, D=None):
+    """Fit the W-M power law to a topography's line-scan spectrum (or structure function).
+
+    **Arguments:**
+
+    - `topography`: a SurfaceTopography line scan or map in metres (from `read` or `synthesis`).
+    - `band`: (shortest, longest) wavelength to fit, m. Default: from `max(10 grid spacings, the tip's
+      reliability cutoff)` to a quarter of a group's scan length (PSD) or a fiftieth (structure function).
+    - `method`: "psd" (power law `C1D = K1 q^-(5-2D)`) or "structure-function" (`S ∝ τ^(4-2D)`).
+    - `groups`: independent groups whose scatter gives the uncertainty: tiles of a map (default
+      16, as 4 × 4, or 9 below 1024 points a side) or segments of a profile (default 8). The
+      band's long end is set by their size.
+    - `D`: hold D at this value and fit the amplitude alone.
+
+    **Returns:** a `Characterisation`. **Raises:** `ValueError` naming the bad argument, or
+    saying why no power law can be fitted (band outside the data, profile too short).
+    """
+    check_choice("method", method, METHODS)
+    rows, dx, length, periodic, kind = spectra.rows_of(topography)
+    if not np.ptp(rows) > 0:
+        what = "map" if kind == "areal" else "profile"
+        raise InputError(f"the {what} is flat: every height is the same, so it has no roughness to characterise")
+    if groups is not None and (isinstance(groups, bool) or not isinstance(groups, int) or groups < 3):
+        raise InputError(f"{assigned('groups', repr(groups))} must be an integer >= 3 (independent groups)")
+    blocks = spectra.groups_of(rows, groups, kind, method)
+    periodic = periodic and len(blocks) == 1
+    if len(blocks) < 3:
+        raise InputError(f"{assigned('groups', str(len(blocks)))}: at least 3 independent groups are needed")
+    segment = blocks[0].shape[1] * dx
+    cutoff = topography.short_reliability_cutoff()
+    shortest = max(SHORTEST_IN_PIXELS * dx, cutoff or 0.0)
+    if band is None:
+        longest = LONGEST_FRACTION[method] * segment
+        if method == "structure-function":  # at least the factor 4 a fit needs, where the segment allows it
+            longest = min(max(longest, 4 * shortest), LONGEST_FRACTION["psd"] * segment)
+        if longest < 4 * shortest:
+            raise InputError(
+                f"the {'profile' if kind == 'profile' else 'map'} is too small for any power-law band: "
+                f"{rows.shape[1]} points over {length:.3g} m leave wavelengths {shortest:.3g}-{longest:.3g} m "
+                "to fit (a factor 4 at least is needed; "
+                f"{spelled('fewer groups', 'a smaller --groups')} give longer segments)"
+            )
+        band = (shortest, longest)
+    band = tuple(float(b) for b in band)
+    if len(band) != 2 or not (0 < band[0] < band[1]):
+        raise InputError(f"{_band(band)} must be (shortest, longest) wavelengths with 0 < shortest < longest")
+    if band[0] < 2 * dx or band[1] > segment:
+        raise InputError(
+            f"{_band(band)} is outside the data: wavelengths must lie in "
+            f"[{2 * dx:.3g}, {segment:.3g}] m (two grid spacings to one {'segment' if kind == 'profile' else 'scan'})"
+        )
+    if band[1] / band[0] < 4:
+        raise InputError(
+            f"{_band(band)} spans less than a factor 4 in wavelength: the "
+            f"{kind} is too short for any power-law band ({rows.shape[1]} points over {length:.3g} m)"
+        )
+    if method == "psd":
+        x, per_group, weights = spectra.binned_psd(blocks, dx, periodic, band)
+        exponent = lambda slope: (5 + slope) / 2  # noqa: E731  slope = -(5 - 2D)
+        log_G = lambda D_, intercept: log_G_from_profile_prefactor(D_, intercept)  # noqa: E731
+        slope_of = lambda D_: -(5 - 2 * D_)  # noqa: E731
+    else:
+        x, per_group, weights = spectra.binned_structure_function(blocks, dx, band)
+        exponent = lambda slope: (4 - slope) / 2  # noqa: E731  slope = 4 - 2D
+        log_G = lambda D_, intercept: (intercept - math.log(structure_function_constant(D_))) / (2 * (D_ - 1))  # noqa: E731
+        slope_of = lambda D_: 4 - 2 * D_  # noqa: E731
+    if x.size < 4:
+        raise InputError(f"{_band(band)} holds {x.size} spectral bins: too few to fit")
+    log_x, log_y = np.log(x), np.log(per_group)
+    mean_y = np.log(per_group.mean(axis=0))
+
+    def estimate(curve):
+        if method == "psd" and kind == "areal":
+            return _estimate_truncated(curve)
+        return _estimate_plain(curve)
+
+    def _estimate_truncated(curve):
+        # A line scan of an areal map sees C2D only up to the grid's cutoff q_c = π/Δx: its PSD is
+        # the power law times T(q) = I_{1-(q/q_c)²}(1/2, 5/2 - D) (the share of the qy-integral of
+        # MODEL.md §8 inside the cutoff), which steepens it near q_c. Fitted by fixed point in D.
+        D_k = _estimate_plain(curve)[0]
+        for _ in range(4):
+            share = special.betainc(0.5, 2.5 - min(max(D_k, 1.01), 1.99), 1.0 - (x * dx / math.pi) ** 2)
+            D_k, intercept = _estimate_plain(curve - np.log(share))
+        return D_k, intercept
+
+    def _estimate_plain(curve):
+        if D is not None:
+            return float(D), float(np.average(curve - slope_of(float(D)) * log_x, weights=weights))
+        # Weighted by the periodogram values in each bin: a bin's mean is as good as its count.
+        slope, intercept = spectra.line_fit(log_x, curve, weights)
+        return float(exponent(slope)), float(intercept)
+
+    def to_D_logG(curve):
+        D_hat, intercept = estimate(curve)
+        return D_hat, (log_G(D_hat, intercept) if 1 < D_hat < 2 else math.nan), intercept
+
+    D_fit, log_G_fit, intercept = to_D_logG(mean_y)
+    if not 1 < D_fit < 2:
+        raise InputError(
+            f"no power-law band: the slope over ({band[0]:.3g}, {band[1]:.3g}) m gives D = {D_fit:.3g}, "
+            "outside (1, 2); the surface is not self-affine there (another band may be: "
+            f"{spelled('band=(short, long)', '--band SHORT LONG')})"
+        )
+    estimates = np.array([to_D_logG(curve)[:2] for curve in log_y])
+    n = len(estimates)
+    # The estimate fits the groups' mean spectrum (the log of one group's few periodogram values
+    # per bin is biased low); the scatter between the groups' own fits is its uncertainty.
+    usable = np.all(np.isfinite(estimates), axis=1)
+    D_hat, log_G_hat = D_fit, log_G_fit
+    if usable.sum() < 3:
+        raise InputError(
+            f"no power-law band: only {usable.sum()} of {n} groups give D in (1, 2) over "
+            f"({band[0]:.3g}, {band[1]:.3g}) m; the surface is not self-affine there"
+        )
+    n = int(usable.sum())
+    covariance = np.cov(estimates[usable].T) / n
+    if D is not None:
+        covariance[0, :] = covariance[:, 0] = 0.0
+        covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
+    diagnostics = _diagnostics(log_x, log_y, mean_y, slope_of(D_hat), estimates)
+    filled = float(topography.info.get("filled_fraction", 0.0))
+    if filled > 0:
+        covariance, note = _widened_for_filling(covariance, filled, held=D is not None)
+        diagnostics += (note,)
+    t = stats.t.ppf(0.975, n - 1)
+    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
+    G_hat = math.exp(log_G_hat)
+    fit_x = np.geomspace(x[0], x[-1], 50)
+    return Characterisation(
+        D=D_hat,
+        G=G_hat,
+        G_structure_function=float(convert_G(G_hat, D_hat)),
+        l_min=band[0],
+        band=band,
+        method=method,
+        stderr={"D": se_D, "G": G_hat * se_logG},
+        ci95={
+            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
+            "G": (G_hat * math.exp(-t * se_logG), G_hat * math.exp(t * se_logG)),
+        },
+        covariance=covariance,
+        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
+        groups=n,
+        estimates=estimates,
+        spectrum=spectra.full_spectrum(blocks, dx, periodic, method),
+        fit=(fit_x, np.exp(intercept + slope_of(D_hat) * np.log(fit_x))),
+        diagnostics=diagnostics,
+        kind=kind,
+        reliability_cutoff=cutoff,
+    )
+
+
+def _band(band) -> str:
+    short, long = band[:2] if len(band) >= 2 else (band + (math.nan, math.nan))[:2]
+    return assigned("band", spelled(f"({short:.3g}, {long:.3g})", f"{short:.3g} {long:.3g}")) + " m"
+
+
+def _widened_for_filling(covariance, filled: float, held: bool):
+    """The covariance of (D, ln G) with the bias that filling `filled` of the points can cause
+    (`read`'s `FILL_BIAS_PER_FRACTION`, D low and ln G along its regression on D) added as a
+    systematic term; and the diagnostic that says so."""
+    from ._read import FILL_BIAS_PER_FRACTION
+
+    bias = FILL_BIAS_PER_FRACTION * filled
+    if held:
+        return covariance, f"{100 * filled:.2g} % of the points were filled by interpolation: G may be low"
+    direction = np.array([1.0, covariance[0, 1] / covariance[0, 0]])
+    return covariance + bias**2 * np.outer(direction, direction), (
+        f"{100 * filled:.2g} % of the points were filled by interpolation, which can bias D low by up to "
+        f"{bias:.2g} (and G with it): the intervals include that"
+    )
+
+
+def _diagnostics(log_x, log_y, mean_y, slope, estimates) -> tuple[str, ...]:
+    notes = []
+    # Curvature of log C against log x beyond its scatter between groups: not a power law in the band.
+    curvatures = spectra.curvature(log_x, log_y)
+    mean_curvature = spectra.curvature(log_x, mean_y)
+    spread = np.std(curvatures, ddof=1) / math.sqrt(len(curvatures))
+    span = log_x[-1] - log_x[0]
+    slope_change = abs(2 * mean_curvature * span)
+    if abs(mean_curvature) > 3 * spread and slope_change > 0.3:
+        notes.append(
+            f"the spectrum is not a power law in the band: its log-log slope changes by {slope_change:.2f} "
+            f"across it (at {3 * spread * 2 * span:.2f} scatter); D and G describe an average, try a narrower band"
+        )
+    if not np.all(np.isfinite(estimates)):
+        notes.append("some groups give D outside (1, 2): their spectra are not self-affine in the band")
+    return tuple(notes)

@@ -1,0 +1,64 @@
+"""The stiffness curve of a characterised surface, with the band its (D, G) uncertainty gives."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy import stats
+
+from ..core import solve
+from ..quantities import Surface
+
+
+@dataclasses.dataclass(frozen=True)
+class StiffnessBand:
+    """K(F) (N/m) at the characterised (D, G), and its 95 % band (`lower`, `upper`), per load;
+    `status` as `jaxcontact.solve` gives it."""
+
+    load: np.ndarray
+    stiffness: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    status: np.ndarray
+
+
+def stiffness_band(characterisation, scene, loads) -> StiffnessBand:
+    """K(F) on `scene` with its surface replaced by the characterised one, and a 95 % band.
+
+    The band is the delta method: `var ln K = ∇ᵀ Σ ∇`, with `Σ` the covariance of (D, ln G) from
+    the scatter between groups and `∇` the gradient of ln K with respect to (D, ln G) by forward-mode
+    differentiation through the solve; `ln K ± t·sd` with the groups' Student-t quantile.
+
+    **Arguments:** `characterisation` (from `characterise`), `scene` (material, area and model),
+    `loads` (N). **Returns:** a `StiffnessBand`.
+    """
+    surface = characterisation.surface
+    scene = eqx.tree_at(lambda s: s.surface, scene, Surface(D=surface.D, G=surface.G, l_min=surface.l_min))
+    loads = np.asarray(loads, dtype=float)
+    dtype = jnp.result_type(1.0)
+
+    def log_stiffness(theta):
+        moved = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (theta[0], jnp.exp(theta[1])))
+        solution = solve(moved, loads)
+        # K = 0 (every spot plastic) has no logarithm; its band is [0, 0].
+        usable = solution.ok & (solution.stiffness > 0)
+        return jnp.log(jnp.where(usable, solution.stiffness, 1.0)), solution
+
+    theta = jnp.asarray([characterisation.D, np.log(characterisation.G)], dtype)
+    gradient, solution = jax.jacfwd(log_stiffness, has_aux=True)(theta)
+    variance = jnp.einsum("ni,ij,nj->n", gradient, jnp.asarray(characterisation.covariance, dtype), gradient)
+    spread = stats.t.ppf(0.975, characterisation.groups - 1) * np.sqrt(np.maximum(np.asarray(variance), 0.0))
+    ok = np.asarray(solution.ok)
+    K = np.where(ok, np.asarray(solution.stiffness), np.nan)
+    spread = np.where(K > 0, spread, 0.0)
+    return StiffnessBand(
+        load=loads,
+        stiffness=K,
+        lower=np.where(ok, K * np.exp(-spread), np.nan),
+        upper=np.where(ok, K * np.exp(spread), np.nan),
+        status=np.asarray(solution.status),
+    )

@@ -1,0 +1,148 @@
+"""The package's shape: layers import downwards only, no import cycle, short modules, private
+implementation modules, and methods of equinox modules either abstract or final."""
+
+import ast
+import collections
+import importlib
+import inspect
+import pathlib
+
+import equinox as eqx
+import pytest
+from conftest import ROOT
+
+# Lowest first. A subpackage imports from its own layer's packages only where listed beside it,
+# and from any lower layer; the package's own `__init__` (the public face) sits above the library.
+LAYERS = (
+    ("numerics",),
+    ("programs", "quantities"),
+    ("physics",),
+    ("models",),
+    ("core",),
+    ("applications", "topography"),
+    ("bem",),
+    ("<root>",),
+    ("studies",),
+    ("cli",),
+)
+RANK = {package: rank for rank, packages in enumerate(LAYERS) for package in packages}
+SIDEWAYS = {("bem", "topography")}
+PACKAGES = ("jaxcontact", "fitting")
+MAX_LINES = 300
+
+
+def _modules():
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            parts = list(path.relative_to(ROOT).with_suffix("").parts)
+            is_package = parts[-1] == "__init__"
+            if is_package:
+                parts = parts[:-1]
+            yield ".".join(parts), path, is_package
+
+
+def _imports(name: str, path: pathlib.Path, is_package: bool) -> set[str]:
+    """The modules of PACKAGES that `name` imports (a `from package import module` counts as the module)."""
+    package = name if is_package else name.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else []))
+            for alias in node.names:
+                sub = f"{target}.{alias.name}"
+                is_module = (ROOT / (sub.replace(".", "/") + ".py")).exists() or (ROOT / sub.replace(".", "/")).is_dir()
+                found.add(sub if is_module else target)
+        elif isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+    return {m for m in found if m.split(".")[0] in PACKAGES}
+
+
+MODULES = {name: (path, is_package) for name, path, is_package in _modules()}
+GRAPH = {name: _imports(name, path, is_package) for name, (path, is_package) in MODULES.items()}
+
+
+def _layer(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[0] != "jaxcontact":
+        return None
+    return parts[1] if len(parts) > 1 else "<root>"
+
+
+def test_every_import_goes_to_a_lower_layer():
+    upward = []
+    for module, targets in GRAPH.items():
+        source = _layer(module)
+        for target in targets:
+            into = _layer(target)
+            if source is None or into is None or source == into or (source, into) in SIDEWAYS:
+                continue
+            if RANK[into] >= RANK[source]:
+                upward.append(f"{module} -> {target}")
+    assert upward == []
+
+
+def test_there_is_no_import_cycle():
+    """Between modules (a package's `__init__` counted as a module of its own)."""
+    state, cycles = {}, []
+
+    def visit(node, stack):
+        state[node] = "open"
+        for target in sorted(GRAPH.get(node, ())):
+            if state.get(target) == "open":
+                cycles.append(" -> ".join(stack[stack.index(target) :] + [target]))
+            elif target not in state:
+                visit(target, stack + [target])
+        state[node] = "done"
+
+    for module in sorted(GRAPH):
+        if module not in state:
+            visit(module, [module])
+    # A package's __init__ re-exporting its own modules is not a cycle unless a module imports it back.
+    assert [c for c in cycles if not _only_reexports(c)] == []
+
+
+def _only_reexports(cycle: str) -> bool:
+    steps = cycle.split(" -> ")
+    return all(MODULES.get(a, (None, False))[1] and b.startswith(a + ".") for a, b in zip(steps, steps[1:]))
+
+
+def test_every_module_is_short():
+    long = {name: n for name, (path, _) in MODULES.items() if (n := len(path.read_text().splitlines())) > MAX_LINES}
+    assert long == {}
+
+
+def test_implementation_modules_are_private():
+    """Every module below a subpackage is `_`-prefixed; its package's `__init__` is its public face."""
+    public = [
+        name
+        for name, (_, is_package) in MODULES.items()
+        if not is_package and name.count(".") >= 1 and not name.rsplit(".", 1)[1].startswith("_")
+    ]
+    assert public == []
+
+
+def _module_classes():
+    for name in MODULES:
+        if name.startswith("jaxcontact") and not name.startswith(("jaxcontact.cli", "jaxcontact.studies")):
+            module = importlib.import_module(name)
+            for cls in vars(module).values():
+                if inspect.isclass(cls) and issubclass(cls, eqx.Module) and cls.__module__ == name:
+                    yield cls
+
+
+@pytest.mark.parametrize("cls", sorted(set(_module_classes()), key=lambda c: c.__qualname__), ids=lambda c: c.__name__)
+def test_methods_are_abstract_or_final(cls):
+    """equinox's rule: a concrete method of a base is never overridden (it is final), and a
+    method meant to be replaced is abstract."""
+    overridden = collections.defaultdict(list)
+    for base in cls.__mro__[1:]:
+        if not (issubclass(base, eqx.Module) and base.__module__.startswith("jaxcontact")):
+            continue
+        for attribute, value in vars(base).items():
+            if attribute.startswith("__") or not callable(value) or getattr(value, "__isabstractmethod__", False):
+                continue
+            mine = vars(cls).get(attribute)
+            if mine is not None and mine is not value:
+                overridden[attribute].append(base.__qualname__)
+    assert dict(overridden) == {}
