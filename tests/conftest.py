@@ -1,4 +1,5 @@
-"""Shared fixtures. The tests run in float64 (the library itself never switches x64 on)."""
+"""Settings and fixtures. The tests run in float64 (the library itself never switches x64 on);
+what tests share besides fixtures is in helpers.py."""
 
 import importlib.metadata
 import os
@@ -39,12 +40,8 @@ jax.config.update(
 )
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.3)
 
-import equinox as eqx  # noqa: E402
 import pytest  # noqa: E402
-
-import jaxcontact as jc  # noqa: E402
-from jaxcontact.core import table1_values  # noqa: E402
-from jaxcontact.quantities import nondimensionalise  # noqa: E402
+from helpers import TABLE1, make_scene  # noqa: E402
 
 # Whole files go to the two workers in this order, the longest (measured) first, so that the
 # workers finish together: xdist's own order (most tests first) left a few long files of few
@@ -73,58 +70,6 @@ def pytest_collection_modifyitems(items):
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's own order kept
 
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared"
-CHECKPOINTS = SHARED / "checkpoints.csv"
-# Tests that read ../shared (beside the project, not in it) skip with this reason without it.
-needs_shared = pytest.mark.skipif(
-    not CHECKPOINTS.is_file(),
-    reason=f"{CHECKPOINTS} is absent: the conformance vectors live beside the project "
-    "in ../shared (present in CI), not in a standalone clone",
-)
-
-# MODEL.md §7: Table 1 grinding surface with the paper's material values (the embedded default scene).
-TABLE1 = table1_values()
-# Sec. 5.1 material (Figs. 3–6).
-SEC51 = dict(E=210e9, nu=0.3, H=120e9, area=1e-4, l_min=1e-9)
-# MODEL.md §10's surface for the comparators and the boundary-element reference: L = 100 µm,
-# l_min = L/64, G = 1e-12 m, E = 210 GPa (data/scenes/bem_comparison.toml).
-BEM_L = 100e-6
-BEM_SETTING = dict(D=1.5, G=1e-12, E=210e9, nu=0.3, H=3e8, area=BEM_L * BEM_L, l_min=BEM_L / 64)
-
-
-def make_scene(D, G, E, nu, H, area, l_min, model="xia2024", **options):
-    """A scene of these values; `model` an object, or a name with its `options` by name."""
-    return jc.Scene(jc.Surface(D=D, G=G, l_min=l_min), jc.Material(E=E, nu=nu, H=H), area, model, **options)
-
-
-def make_joint(scene):
-    """The dimensionless joint that the scene's (largest-spot) model solves."""
-    return scene.model.joint(nondimensionalise(scene))
-
-
-# Every float field of a scene, for differentiating with respect to all of them at once.
-PARAMS = ("D", "G", "E", "H", "l_min", "nu", "area")
-GETTERS = {name: jc.PARAMETERS[name].get for name in PARAMS}
-
-
-def with_params(scene, values):
-    """The scene with its float fields set to `values` (ordered as `PARAMS`)."""
-    for name, v in zip(PARAMS, values):
-        scene = eqx.tree_at(GETTERS[name], scene, v)
-    return scene
-
-
-def masked_log_stiffness_sum(sol, weights=1.0):
-    """Σ w ln K over a solution's valid points: flagged points add exactly 0, to every derivative too."""
-    ok = sol.ok
-    return jax.numpy.sum(jax.numpy.where(ok, weights * jax.numpy.log(jax.numpy.where(ok, sol.stiffness, 1.0)), 0.0))
-
-
-def params_of(scene):
-    return jax.numpy.array([float(GETTERS[p](scene)) for p in PARAMS])
-
-
 @pytest.fixture(scope="session")
 def table1_scene():
     return make_scene(**TABLE1)
@@ -146,17 +91,3 @@ def table1_without_interaction():
     compile with the "paper" interaction inside costs a minute (the interaction's own gradients
     are checked against finite differences in test_gradients.py)."""
     return make_scene(**TABLE1, interaction="none")
-
-
-# Module-level jitted helpers, so that joints of one structure share a compile: run eagerly,
-# each of the hundreds of operations in a joint's integrals would be compiled on its own.
-@eqx.filter_jit
-def total_loads(joint, log_a_l):
-    """F_t*(a_l) at each ln a_l* (Eq. 30)."""
-    return jax.vmap(joint.total_load)(log_a_l)
-
-
-@eqx.filter_jit
-def log_total_load_slopes(joint, log_a_l):
-    """d ln F_t*/d ln a_l* at each ln a_l*."""
-    return jax.vmap(jax.grad(lambda x: jax.numpy.log(joint.total_load(x))))(log_a_l)

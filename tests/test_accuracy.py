@@ -3,7 +3,7 @@
 import csv
 
 import numpy as np
-from conftest import CHECKPOINTS, TABLE1, make_scene, needs_shared
+from helpers import CHECKPOINTS, TABLE1, make_scene, needs_shared
 
 from jaxcontact.studies import _reference as reference
 from jaxcontact.studies._accuracy import _dominates, study

@@ -9,7 +9,7 @@ import pathlib
 
 import equinox as eqx
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 # Lowest first. A subpackage imports from its own layer's packages only where listed beside it,
 # and from any lower layer; the package's own `__init__` (the public face) sits above the library.
@@ -146,3 +146,16 @@ def test_methods_are_abstract_or_final(cls):
             if mine is not None and mine is not value:
                 overridden[attribute].append(base.__qualname__)
     assert dict(overridden) == {}
+
+
+def test_the_toy_model_is_written_with_exported_names_only():
+    """docs/adding-a-model.md's promise: a new model needs nothing beyond `import jaxcontact`."""
+    imported = _imports("toy_model", ROOT / "tests" / "toy_model.py", False)
+    assert imported == {"jaxcontact"}
+
+
+def test_fitting_uses_the_public_faces_only():
+    private = sorted(
+        t for m, ts in GRAPH.items() if m.startswith("fitting") for t in ts if "._" in t and t.startswith("jaxcontact")
+    )
+    assert private == []

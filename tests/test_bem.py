@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 import pytest
-from conftest import BEM_L as L
-from conftest import BEM_SETTING, make_scene
+from helpers import BEM_L as L
+from helpers import BEM_SETTING, make_scene
 
 import jaxcontact as jc
 from jaxcontact import bem

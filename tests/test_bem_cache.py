@@ -5,8 +5,8 @@ import shutil
 
 import numpy as np
 import pytest
-from conftest import BEM_L as L
-from conftest import BEM_SETTING
+from helpers import BEM_L as L
+from helpers import BEM_SETTING
 
 from jaxcontact import bem
 

@@ -6,7 +6,7 @@ from collections import defaultdict
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import CHECKPOINTS, TABLE1, make_scene, needs_shared
+from helpers import CHECKPOINTS, TABLE1, make_scene, needs_shared
 
 import jaxcontact as jc
 from jaxcontact.physics import kogut_etsion_laws

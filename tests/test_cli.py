@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import ROOT, TABLE1, make_scene
+from helpers import ROOT, TABLE1, make_scene
 
 import jaxcontact as jc
 from jaxcontact.cli import main
@@ -459,3 +459,11 @@ def test_a_number_of_starts_below_one_is_one_line_with_exit_2(tmp_path, capsys, 
     data = ROOT / "data" / "table1_grinding_generated.csv"
     assert main(["fit", str(data), "--starts", starts, "--out", str(tmp_path), "--no-progress"]) == 2
     assert capsys.readouterr().err == f"jaxcontact fit: error: --starts {starts} must be an integer in [1, 1024]\n"
+
+
+def test_every_subcommands_help_opens_with_what_it_does():
+    from jaxcontact.cli._main import build_parser
+
+    commands = next(a for a in build_parser()._actions if a.dest == "command").choices
+    described = {name: bool(p.description) and "\n" not in p.description for name, p in commands.items()}
+    assert described == dict.fromkeys(commands, True)

@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import BEM_L, BEM_SETTING, TABLE1, make_scene
+from helpers import BEM_L, BEM_SETTING, TABLE1, make_scene
 from scipy import integrate, optimize, special
 
 import jaxcontact as jc

@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene, masked_log_stiffness_sum
+from helpers import TABLE1, make_scene, masked_log_stiffness_sum
 from scipy import integrate, optimize
 from toy_model import AllElastic
 

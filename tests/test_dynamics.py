@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import ROOT, TABLE1, make_scene
+from helpers import ROOT, TABLE1, make_scene
 
 import fitting
 import jaxcontact as jc

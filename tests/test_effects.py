@@ -4,7 +4,7 @@ import jax
 import jax.extend
 import jax.numpy as jnp
 import numpy as np
-from conftest import TABLE1, make_joint, make_scene
+from helpers import TABLE1, make_joint, make_scene
 
 import jaxcontact as jc
 from jaxcontact.physics import wang_komvopoulos_psi

@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import GETTERS, PARAMS, TABLE1, make_scene
+from helpers import GETTERS, PARAMS, TABLE1, make_scene
 
 import jaxcontact as jc
 

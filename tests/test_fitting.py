@@ -5,7 +5,7 @@ import json
 import jax
 import numpy as np
 import pytest
-from conftest import ROOT, TABLE1, make_scene
+from helpers import ROOT, TABLE1, make_scene
 
 import fitting
 import jaxcontact as jc

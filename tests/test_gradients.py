@@ -9,7 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import GETTERS, PARAMS, TABLE1, make_joint, make_scene, total_loads, with_params
+from helpers import GETTERS, PARAMS, TABLE1, make_joint, make_scene, total_loads, with_params
 
 import jaxcontact as jc
 from jaxcontact.physics._asperity import EP1_END, EP2_END

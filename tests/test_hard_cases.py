@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import GETTERS, PARAMS, TABLE1, make_joint, make_scene, masked_log_stiffness_sum, params_of, with_params
+from helpers import GETTERS, PARAMS, TABLE1, make_joint, make_scene, masked_log_stiffness_sum, params_of, with_params
 
 import jaxcontact as jc
 from jaxcontact.numerics import x64

@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, log_total_load_slopes, make_joint, make_scene, total_loads
+from helpers import TABLE1, log_total_load_slopes, make_joint, make_scene, total_loads
 
 import jaxcontact as jc
 from jaxcontact.core import prepare

@@ -8,7 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from helpers import TABLE1, make_scene
 
 import jaxcontact as jc
 from jaxcontact.core import _loadcontrol as loadcontrol

@@ -3,7 +3,7 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import make_joint, make_scene, total_loads
+from helpers import make_joint, make_scene, total_loads
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -3,7 +3,7 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_joint, make_scene
+from helpers import TABLE1, make_joint, make_scene
 
 import jaxcontact as jc
 from jaxcontact.numerics import integrate_log_area

@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 from jaxcontact import topography as tp
 from jaxcontact.cli import main

@@ -4,7 +4,7 @@ import pathlib
 
 import numpy as np
 import pytest
-from conftest import ROOT, TABLE1
+from helpers import ROOT, TABLE1
 
 import jaxcontact as jc
 from jaxcontact.cli._scenefile import SceneFileError, load_scene, parse_scene

@@ -3,7 +3,7 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import make_scene
+from helpers import make_scene
 
 import jaxcontact as jc
 from jaxcontact.studies._scipy_baseline import BaselineParameters, solve_point

@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 import numpy as np
-from conftest import ROOT, TABLE1
+from helpers import ROOT, TABLE1
 
 import jaxcontact as jc
 from jaxcontact.applications import solve_sweep

@@ -6,7 +6,7 @@ import math
 import equinox as eqx
 import numpy as np
 import pytest
-from conftest import ROOT, make_scene
+from helpers import ROOT, make_scene
 
 import jaxcontact as jc
 from jaxcontact import topography as tp

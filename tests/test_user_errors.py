@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from helpers import TABLE1, make_scene
 
 import jaxcontact as jc
 from jaxcontact import topography as tp

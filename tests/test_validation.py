@@ -3,7 +3,7 @@
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from conftest import TABLE1, make_scene
+from helpers import TABLE1, make_scene
 
 import jaxcontact as jc
 

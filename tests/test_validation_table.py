@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 from jaxcontact.cli._compare_table import compare_spec
 from jaxcontact.studies._compare import COMPARED, column_key, validation_rows

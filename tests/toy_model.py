@@ -8,16 +8,21 @@ no interaction). Every total is a closed form. `tests/test_contract.py` register
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from jaxcontact import AbstractJoint, AbstractLargestSpotModel, JointResponse
-from jaxcontact.models import GenericLoadPieces
-from jaxcontact.numerics import PowerLaw
-from jaxcontact.physics import kogut_etsion_laws, size_distribution
+from jaxcontact import (
+    AbstractJoint,
+    AbstractLargestSpotModel,
+    GenericLoadPieces,
+    JointResponse,
+    PowerLaw,
+    hertz_stiffness,
+    kogut_etsion_laws,
+    size_distribution,
+)
 
 
 class AllElastic(AbstractLargestSpotModel):
@@ -48,7 +53,6 @@ class AllElasticJoint(AbstractJoint):
 
     def response(self, log_a_l, log_load):
         n = size_distribution(self.D, log_a_l, 0.0)
-        hertz = PowerLaw(jnp.full_like(self.D, math.log(2.0 / math.sqrt(math.pi))), jnp.full_like(self.D, 0.5))
-        stiffness = (hertz * n).integral(self.log_a_min, log_a_l)[None]
+        stiffness = (hertz_stiffness(self.D) * n).integral(self.log_a_min, log_a_l)[None]
         area = (PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D)) * n).integral(self.log_a_min, log_a_l)
         return JointResponse(self.regime_load(log_a_l), stiffness, area, jnp.array(False))

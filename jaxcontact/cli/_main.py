@@ -62,12 +62,16 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
 
     def common(p, default_out):
-        p.add_argument("--format", choices=("table", "json"), default="table", help="output format on stdout")
+        p.add_argument("--format", choices=("table", "json"), default="table", help="output on stdout (default: table)")
         p.add_argument("--out", default=default_out, help=f"output folder (default: {default_out})")
-        p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+        p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar (default: shown)")
+
+    def command(name, help):
+        """A subcommand whose --help opens with the one line of what it does."""
+        return sub.add_parser(name, help=help, description=help[0].upper() + help[1:] + ".")
 
     def scene_command(name, help, func, out, default_scene="table1_grinding.toml"):
-        p = sub.add_parser(name, help=help)
+        p = command(name, help)
         p.add_argument("scene", nargs="?", help=f"scene TOML file (default: embedded {default_scene})")
         common(p, out)
         p.set_defaults(func=func)
@@ -78,7 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--topography", help="a measured surface file: D, G, l_min from it, K(F) with its 95 %% band")
     add_topography_options(p)
-    p = sub.add_parser("surface", help="D, G (both conventions) and l_min of a measured surface, with intervals")
+    p = command("surface", "D, G (both conventions) and l_min of a measured surface, with intervals")
     p.add_argument("file", help="topography file (any format SurfaceTopography reads)")
     add_topography_options(p)
     common(p, "jaxcontact-out/surface")
@@ -109,13 +113,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--topography", help="a measured areal map: BEM on its heights, models on its D, G, l_min")
     add_topography_options(p)
     add_compare_options(p)
-    p = sub.add_parser("figures", help="reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
+    p = command("figures", "reproduce the paper's Figs. 3, 4, 5, 6, 8 and the l_min dependence")
     common(p, "jaxcontact-out/figures")
     p.set_defaults(func=cmd_figures)
 
-    p = sub.add_parser("fit", help="fit D and G (or other parameters) to a measured stiffness curve (CSV)")
+    p = command("fit", "fit D and G (or other parameters) to a measured stiffness curve (CSV)")
     p.add_argument("data", help="CSV with columns load_N,stiffness_N_per_m (or F_star,K_star)")
-    p.add_argument("--scene", help="scene TOML supplying the parameters that are not fitted (default: embedded)")
+    p.add_argument(
+        "--scene", help="scene TOML supplying the parameters that are not fitted (default: the embedded Table 1 scene)"
+    )
     p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
     p.add_argument("--method", choices=("bfgs", "lbfgs", "lm"), default="bfgs", help="optimiser (default: bfgs)")
     p.add_argument("--starts", type=int, default=12, help="number of starts (default: 12)")

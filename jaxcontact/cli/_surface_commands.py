@@ -12,21 +12,39 @@ from ._scenefile import DEFAULT_SCENE
 
 
 def add_topography_options(p) -> None:
-    p.add_argument("--tip-radius", type=float, help="stylus tip radius (m), where the file does not say it")
+    p.add_argument(
+        "--tip-radius", type=float, help="stylus tip radius in m (default: the file's, or none: no reliability cutoff)"
+    )
     p.add_argument(
         "--size",
         type=float,
         nargs="+",
-        help="physical size (m): L for a line scan, LX LY for a map; overrides the file's",
+        help="physical size in m: L for a line scan, LX LY for a map (default: the file's; given, it overrides it)",
     )
     p.add_argument(
         "--unit",
         choices=("m", "mm", "µm", "um", "nm"),
         help="unit of the heights (and of x in an x–z text profile) where the file gives none (default: m)",
     )
-    p.add_argument("--band", type=float, nargs=2, metavar=("SHORT", "LONG"), help="fit band, wavelengths in m")
-    p.add_argument("--fill-undefined", action="store_true", help="fill NaN or missing points by interpolation")
-    p.add_argument("--groups", type=int, help="independent tiles or segments for the uncertainty (default 16/9, 8)")
+    p.add_argument(
+        "--band",
+        type=float,
+        nargs=2,
+        metavar=("SHORT", "LONG"),
+        help="fit band, wavelengths in m (default: from 10 grid spacings, or the tip's cutoff if longer, to a "
+        "quarter of a tile or segment)",
+    )
+    p.add_argument(
+        "--fill-undefined",
+        action="store_true",
+        help="fill NaN or missing points by interpolation, up to 15 %% of them (default: refuse such a file)",
+    )
+    p.add_argument(
+        "--groups",
+        type=int,
+        help="independent groups for the uncertainty (default: 16 tiles for maps of 1024 points a side or more, "
+        "9 below; 8 segments for profiles)",
+    )
 
 
 def characterise_file(args, method: str = "psd"):
