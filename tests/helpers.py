@@ -21,11 +21,11 @@ needs_shared = pytest.mark.skipif(
     "in ../shared (present in CI), not in a standalone clone",
 )
 
-# MODEL.md §7: Table 1 grinding surface with the paper's material values (the embedded default scene).
+# docs/model.md §7: Table 1 grinding surface with the paper's material values (the embedded default scene).
 TABLE1 = table1_values()
 # Sec. 5.1 material (Figs. 3–6).
 SEC51 = dict(E=210e9, nu=0.3, H=120e9, area=1e-4, l_min=1e-9)
-# MODEL.md §10's surface for the comparators and the boundary-element reference: L = 100 µm,
+# docs/model.md §10's surface for the comparators and the boundary-element reference: L = 100 µm,
 # l_min = L/64, G = 1e-12 m, E = 210 GPa (data/scenes/bem_comparison.toml).
 BEM_L = 100e-6
 BEM_SETTING = dict(D=1.5, G=1e-12, E=210e9, nu=0.3, H=3e8, area=BEM_L * BEM_L, l_min=BEM_L / 64)

@@ -1,4 +1,4 @@
-"""The load–approach curve (MODEL.md §6) against direct quadrature of 1/K, and its command."""
+"""The load–approach curve (docs/model.md §6) against direct quadrature of 1/K, and its command."""
 
 import json
 

@@ -1,4 +1,4 @@
-"""The boundary-element reference (MODEL.md §10) against Hertz, its own grid, and the models."""
+"""The boundary-element reference (docs/model.md §10) against Hertz, its own grid, and the models."""
 
 import math
 
@@ -95,7 +95,7 @@ def test_results_are_read_back_from_the_cache(tmp_path, monkeypatch):
 
 @pytest.fixture(scope="module")
 def d15_reference():
-    """Three realisations of MODEL.md §10's D = 1.5 surface on 256², at contact fractions ~0.5–20 %."""
+    """Three realisations of docs/model.md §10's D = 1.5 surface on 256², at contact fractions ~0.5–20 %."""
     scene = make_scene(**BEM_SETTING)
     return bem.reference_curves(scene, np.array([2e-5, 1e-4, 5e-4]) * UNIT_LOAD, grid=256, realisations=3)
 

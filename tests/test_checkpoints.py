@@ -1,4 +1,4 @@
-"""MODEL.md §7 checkpoint table and the 96 conformance vectors of shared/checkpoints.csv."""
+"""docs/model.md §7 checkpoint table and the 96 conformance vectors of shared/checkpoints.csv."""
 
 import csv
 from collections import defaultdict

@@ -28,7 +28,7 @@ def test_run_default_scene(tmp_path, capsys):
     K_csv = np.array([float(r["K_N_per_m"]) for r in rows])
     np.testing.assert_allclose(K_csv, np.asarray(sol.stiffness), rtol=1e-12)  # nan where flagged
     i = int(np.argmin(abs(F_star - 1e-6)))
-    assert abs(float(rows[i]["K_star"]) - 1.04576) < 5e-6  # MODEL.md §7
+    assert abs(float(rows[i]["K_star"]) - 1.04576) < 5e-6  # docs/model.md §7
     assert rows[-1]["status"] == "interaction_breakdown"
     assert rows[-1]["K_N_per_m"] == "nan"
     for png in ("stiffness.png", "largest_spot.png", "regime_shares.png"):
@@ -337,10 +337,12 @@ def test_bench_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
 
     monkeypatch.setattr(bench, "run_all", lambda scene, progress=None: {"curve": {"speedup": 1234.0}})
     monkeypatch.setattr(bench_report, "format_results", lambda results: "200-load curve: 1234x")
+    monkeypatch.setattr(bench_report, "format_markdown", lambda results, machine, date: "| table |")
     assert main(["bench", "--out", str(tmp_path), "--no-progress"]) == 0
     capsys.readouterr()
     assert (tmp_path / "bench.txt").read_text().splitlines()[1] == "200-load curve: 1234x"
     saved = json.loads((tmp_path / "bench.json").read_text())
+    assert (tmp_path / "bench.md").read_text() == "| table |\n"
     assert saved["curve"]["speedup"] == 1234.0
     assert saved["scene"]["parameters_SI"]["D"] == TABLE1["D"]
 
@@ -358,6 +360,7 @@ def test_bench_compiles_without_the_persistent_cache(tmp_path, capsys, monkeypat
         bench, "run_all", lambda scene, progress=None: seen.append(jax.config.values["jax_compilation_cache_dir"]) or {}
     )
     monkeypatch.setattr(bench_report, "format_results", lambda results: "")
+    monkeypatch.setattr(bench_report, "format_markdown", lambda results, machine, date: "")
     main(["bench", "--out", str(tmp_path / "out"), "--no-progress"])
     capsys.readouterr()
     assert seen and seen[0] != str(tmp_path / "cache")
@@ -467,3 +470,26 @@ def test_every_subcommands_help_opens_with_what_it_does():
     commands = next(a for a in build_parser()._actions if a.dest == "command").choices
     described = {name: bool(p.description) and "\n" not in p.description for name, p in commands.items()}
     assert described == dict.fromkeys(commands, True)
+
+
+def test_the_bench_table_for_the_docs_states_each_figure_and_its_machine():
+    from jaxcontact.studies._bench_report import format_markdown
+
+    timing = {"median_s": 1e-4, "speedup_median": 1300.0, "over_jit_median": 1.4}
+    results = {
+        "curve": {"jit_baseline_outputs": timing, "scipy": {"median_s": 0.13}},
+        "curve_as_users_call_it": {"plain": timing, "jit": {"median_s": 0.7e-4}},
+        "gradient": {"gradient_over_forward": 2.5, "speedup": 1000.0},
+        "fit": {"jaxcontact_1_start_s": 0.007, "jaxcontact_12_starts_s": 0.08, "scipy_least_squares_s": 1.2},
+        "throughput": {
+            "no_interaction": {"points_per_s": 1.5e7, "compile_s": 1.4},
+            "paper": {"points_per_s": 8e6, "compile_s": 2.5},
+        },
+        "compilation_cache": {"cold_s": 3.2, "warm_s": 1.6},
+    }
+    table = format_markdown(results, "x86_64, 2 cores", "2026-11-25").splitlines()
+    assert table[0].startswith("*Measured by `jaxcontact bench` on x86_64, 2 cores, 2026-11-25;")
+    assert table[4] == (
+        "| 200-load curve, like for like (a_l, K, A_r, status), `jax.jit` | 0.100 ms: 1300× scipy (130 ms) "
+        "| ≥ 1000× scipy |"
+    )

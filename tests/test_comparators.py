@@ -1,4 +1,4 @@
-"""The comparators of MODEL.md §9 against independent evaluations of their formulas (scipy), and
+"""The comparators of docs/model.md §9 against independent evaluations of their formulas (scipy), and
 the Sneddon option's exact relation to the paper's spot stiffness."""
 
 import math
@@ -85,7 +85,7 @@ def gw_by_scipy(v, F):
 
 
 def persson_by_scipy(v, F, gamma=0.45):
-    """MODEL.md §9's formula as printed, in q, by quadrature (SI units)."""
+    """docs/model.md §9's formula as printed, in q, by quadrature (SI units)."""
     C0 = areal_prefactor(v["D"], v["G"]) / (2 * math.pi) ** 2
     q0, q1 = 2 * math.pi / math.sqrt(v["area"]), 2 * math.pi / v["l_min"]
     e = 2 * v["D"] - 2

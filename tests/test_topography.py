@@ -1,4 +1,4 @@
-"""Topography → D, G, l_min (MODEL.md §8) on synthetic surfaces of known truth, and real files."""
+"""Topography → D, G, l_min (docs/model.md §8) on synthetic surfaces of known truth, and real files."""
 
 import json
 import math

@@ -1,4 +1,4 @@
-"""The load–approach curve (MODEL.md §6), integrated with diffrax.
+"""The load–approach curve (docs/model.md §6), integrated with diffrax.
 
 The stiffness is the slope of the load–approach curve, so between a reference preload F0 and F
 
@@ -108,7 +108,7 @@ def approach(
     rtol: float | None = None,
     max_steps: int = 4096,
 ) -> Approach:
-    """Normal approach of the joint relative to a preload, MODEL.md §6.
+    """Normal approach of the joint relative to a preload, docs/model.md §6.
 
     **Arguments:**
 

@@ -1,4 +1,4 @@
-"""The elastic boundary-element reference (MODEL.md §10), on ContactMechanics (the `bem` extra).
+"""The elastic boundary-element reference (docs/model.md §10), on ContactMechanics (the `bem` extra).
 
 `bem_stiffness(topography, E, loads)` solves any areal map; `reference_curves(scene, loads)`
 synthesises realisations of a scene's surface and reports their mean, spread and the grid's

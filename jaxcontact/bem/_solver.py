@@ -1,4 +1,4 @@
-"""K(F) of a rough surface by the elastic boundary-element method (MODEL.md §10).
+"""K(F) of a rough surface by the elastic boundary-element method (docs/model.md §10).
 
 A rigid flat pressed on an elastic half-space (contact modulus E) with the rough surface's
 heights, frictionless and non-adhesive, solved by ContactMechanics (MIT; the `bem` extra): the
@@ -133,7 +133,7 @@ def bem_stiffness(
     cache: ResultCache | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> BEMResult:
-    """The boundary-element K(F) of an areal topography (MODEL.md §10).
+    """The boundary-element K(F) of an areal topography (docs/model.md §10).
 
     **Arguments:**
 

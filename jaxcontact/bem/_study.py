@@ -1,5 +1,5 @@
 """The boundary-element reference of a scene: several synthesised realisations of its surface,
-their mean and spread, and the grid's convergence (MODEL.md §10)."""
+their mean and spread, and the grid's convergence (docs/model.md §10)."""
 
 from __future__ import annotations
 

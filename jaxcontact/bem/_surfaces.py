@@ -26,7 +26,7 @@ def check_grid(l_min: float, size: float, grid: int) -> None:
 
 
 def synthesised_surface(D, G, l_min, size, grid, seed=0):
-    """A periodic, isotropic self-affine surface with the `C2D` of MODEL.md §8 on `[2π/size, 2π/l_min]`.
+    """A periodic, isotropic self-affine surface with the `C2D` of docs/model.md §8 on `[2π/size, 2π/l_min]`.
 
     **Arguments:** `D` (1 < D < 2), `G` (m, W-M convention), `l_min` (m), `size` (m, the square's
     side, so A_a = size²), `grid` (points per side), `seed`.

@@ -1,4 +1,4 @@
-"""`jaxcontact compare`: every model beside the elastic boundary-element reference (MODEL.md §9–10)."""
+"""`jaxcontact compare`: every model beside the elastic boundary-element reference (docs/model.md §9–10)."""
 
 from __future__ import annotations
 

@@ -135,7 +135,7 @@ def plot_fit(result, loads, stiffness, fine_loads, fitted_stiffness, path: pathl
 
 
 def plot_approach(load_star, approach_m, reference_load, path: pathlib.Path) -> str:
-    """The load–approach curve δ(F) − δ(F0) against F* (MODEL.md §6)."""
+    """The load–approach curve δ(F) − δ(F0) against F* (docs/model.md §6)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = subplots(figsize=(6, 4.2))
     ok = np.isfinite(approach_m)

@@ -17,9 +17,13 @@ def cmd_figures(args) -> int:
 
 
 def cmd_bench(args) -> int:
+    import datetime
+    import os
+    import platform
+
     from ..programs import exported_programs
     from ..studies._bench import run_all
-    from ..studies._bench_report import format_results
+    from ..studies._bench_report import format_markdown, format_results
     from ._report import scene_record, to_json
     from ._scenefile import load_scene
 
@@ -34,7 +38,11 @@ def cmd_bench(args) -> int:
     payload = {"scene": scene_record(spec), **results}
     (out / "bench.txt").write_text(text + "\n")
     (out / "bench.json").write_text(to_json(payload) + "\n")
-    files = [str(out / "bench.txt"), str(out / "bench.json")]
+    machine = (
+        f"{platform.machine()} {platform.processor() or 'CPU'}, {os.cpu_count()} cores ({results.get('device', 'cpu')})"
+    )
+    (out / "bench.md").write_text(format_markdown(results, machine, datetime.date.today().isoformat()) + "\n")
+    files = [str(out / name) for name in ("bench.txt", "bench.json", "bench.md")]
     print_result({**payload, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
     return 0
 

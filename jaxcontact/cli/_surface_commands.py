@@ -90,7 +90,7 @@ def summary_text(c, name: str) -> str:
         f"  D     = {c.D:.4f} ± {c.stderr['D']:.4f}   95 % [{c.ci95['D'][0]:.4f}, {c.ci95['D'][1]:.4f}]",
         f"  G     = {c.G:.4g} m (W-M convention, the model's) ×/÷ {math.exp(c.stderr['G'] / c.G):.3g}   "
         f"95 % [{c.ci95['G'][0]:.4g}, {c.ci95['G'][1]:.4g}] m",
-        f"  G_sf  = {c.G_structure_function:.4g} m (structure-function convention, MODEL.md §8)",
+        f"  G_sf  = {c.G_structure_function:.4g} m (structure-function convention, docs/model.md §8)",
         f"  l_min = {c.l_min:.4g} m (the band's short end; K depends on it)",
         f"  corr(D, ln G) = {c.correlation:+.3f}: G is extrapolated to q = 1 rad/m and moves with D",
     ]

@@ -1,4 +1,4 @@
-"""The default scene: the Table 1 grinding surface with the paper's material (MODEL.md §7).
+"""The default scene: the Table 1 grinding surface with the paper's material (docs/model.md §7).
 
 Its one owner is the embedded scene file `scenes/table1_grinding.toml`, the default of the command
 line; everything else (the stand-in of points with invalid parameters, the figures, the tests)

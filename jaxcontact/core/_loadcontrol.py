@@ -1,4 +1,4 @@
-"""Load control (Sec. 4, MODEL.md §4): the loads in, a `Solution` out.
+"""Load control (Sec. 4, docs/model.md §4): the loads in, a `Solution` out.
 
 `solve` checks the loads, makes the scene dimensionless, asks the scene's model for its
 per-load solve (`AbstractContactModel.point_solver`; for the largest-spot models the a_l solve of
@@ -140,7 +140,7 @@ def solve(
     outputs: Outputs = DEFAULT_OUTPUTS,
     solver: NewtonBisection = DEFAULT_SOLVER,
 ) -> Solution:
-    """Normal contact stiffness of the joint at each load (MODEL.md §4, Eqs. 30–39).
+    """Normal contact stiffness of the joint at each load (docs/model.md §4, Eqs. 30–39).
 
     **Arguments:**
 

@@ -146,7 +146,7 @@ def _piece_residual_slope(log_a_l, args):
 
 
 class AbstractLargestSpotModel(AbstractContactModel):
-    """A model whose state is the largest contact spot `a_l` (MODEL.md §4): load control solves
+    """A model whose state is the largest contact spot `a_l` (docs/model.md §4): load control solves
     `F_t(a_l) = F` for it.
 
     Subclasses say how to build their joint (`joint`); the solve is this class's.
@@ -163,7 +163,7 @@ class AbstractLargestSpotModel(AbstractContactModel):
 
     @typing.final
     def point_solver(self, s, *, tolerance, max_steps):
-        """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (MODEL.md §4).
+        """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (docs/model.md §4).
 
         `F_t` at the kinks (once per scene) tells which smooth piece of `F_t` holds each load
         (`load_pieces`); Newton's method then runs on that piece alone, from the piece's log-log

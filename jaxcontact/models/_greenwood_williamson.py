@@ -1,4 +1,4 @@
-"""Greenwood–Williamson with Gaussian summit heights (MODEL.md §9), from the scene's power spectrum.
+"""Greenwood–Williamson with Gaussian summit heights (docs/model.md §9), from the scene's power spectrum.
 
 The summits' density `η`, mean radius `R` and height deviation `σ_s` come from the spectral
 moments `m0, m2, m4` of the surface's PSD on `[2π/L, 2π/l_min]` (`physics.spectrum`) by McCool's
@@ -84,7 +84,7 @@ def _residual_slope(y, args):
 
 
 class GreenwoodWilliamson(AbstractContactModel):
-    """Greenwood & Williamson (1966) with Gaussian summits from the PSD's moments (MODEL.md §9);
+    """Greenwood & Williamson (1966) with Gaussian summits from the PSD's moments (docs/model.md §9);
     every summit elastic (Hertz). One regime, "e". `Solution.a_l` is NaN: the model has no largest spot.
     """
 

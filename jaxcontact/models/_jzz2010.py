@@ -1,4 +1,4 @@
-"""The classical comparator: Jiang, Zheng & Zhu (J. Tribology 132, 011401, 2010), MODEL.md §5.
+"""The classical comparator: Jiang, Zheng & Zhu (J. Tribology 132, 011401, 2010), docs/model.md §5.
 
 Majumdar–Bhushan ordering: spots larger than `a_c` are elastic (Eq. 5, Hertz stiffness
 `k = 2E sqrt(a/π)`), smaller ones fully plastic (`H a`, no stiffness). No lower cutoff: the
@@ -20,7 +20,7 @@ from ._load_pieces import GenericLoadPieces
 
 
 class JZZ2010(AbstractLargestSpotModel):
-    """Jiang, Zheng & Zhu (2010), the comparator of the paper's Figs. 7–8 (MODEL.md §5): spots
+    """Jiang, Zheng & Zhu (2010), the comparator of the paper's Figs. 7–8 (docs/model.md §5): spots
     larger than `a_c` elastic with Hertz stiffness, smaller ones fully plastic. Regimes (e, p).
 
     **Arguments:** `distribution`, `MajumdarBhushan()` (the default) or `WangKomvopoulos()`.

@@ -1,4 +1,4 @@
-"""Persson's theory of elastic contact (MODEL.md §9): the stiffness from the interfacial separation.
+"""Persson's theory of elastic contact (docs/model.md §9): the stiffness from the interfacial separation.
 
 Persson (PRL 99, 125502, 2007) and Yang & Persson (J. Phys.: Condens. Matter 20, 215214, 2008):
 with `C_P(q) = C2D(q)/(2π)²` on `[q0, q1] = [2π/L, 2π/l_min]` and `p = F/A_a`,
@@ -34,7 +34,7 @@ LOG_X_END = math.log(6.0)
 
 
 class Persson(AbstractContactModel):
-    """Persson's theory (MODEL.md §9), elastic, with Yang & Persson's correction factor.
+    """Persson's theory (docs/model.md §9), elastic, with Yang & Persson's correction factor.
 
     **Arguments:** `gamma`, the correction factor γ_P of S(x) (0.45, the papers' value); `nodes`,
     Gauss–Legendre nodes of the integral in `ln x` (static). One regime, "e"; `Solution.a_l` is

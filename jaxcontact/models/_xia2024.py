@@ -7,7 +7,7 @@ For a given largest spot `a_l`, each regime's interval is clipped to `(a_min, a_
     K_t(a_l) = Σ_{e,ep1,ep2}   ∫ k(a) n(a) da        Eqs. (36)–(39)
     A_r(a_l) = ∫ a n(a) da
 
-`F_t` does not depend on the interaction (MODEL.md §4): the paper's Eq. (31) writes f through ω,
+`F_t` does not depend on the interaction (docs/model.md §4): the paper's Eq. (31) writes f through ω,
 and with ω = a/(πR) that is Eq. (5) exactly. Without interaction all of these are power-law
 integrals with closed forms; with interaction the stiffness is the closed form plus the
 interaction's correction (`AbstractInteraction.corrections`).
@@ -44,7 +44,7 @@ _HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
 
 
 class Xia2024(AbstractLargestSpotModel):
-    """Xia, Qu & Liu (2024), MODEL.md §2–4: Kogut–Etsion regimes (e, ep1, ep2, p) over the
+    """Xia, Qu & Liu (2024), docs/model.md §2–4: Kogut–Etsion regimes (e, ep1, ep2, p) over the
     Majumdar–Bhushan size distribution, with interaction between asperities.
 
     **Arguments:**
@@ -54,7 +54,7 @@ class Xia2024(AbstractLargestSpotModel):
       of their correction (`PaperInteraction(quadrature=GaussLegendre(32))`).
     - `distribution`: `MajumdarBhushan()` (Eq. 30, the default) or `WangKomvopoulos()`.
     - `spot_stiffness`: `FamilyDerivative()` (the default, Eqs. 27–29, `k = f'/ξ'`) or `Sneddon()`
-      (`k = 2E√(a/π)`, one circular spot's stiffness; MODEL.md §9), divided by `1 ± r` alike.
+      (`k = 2E√(a/π)`, one circular spot's stiffness; docs/model.md §9), divided by `1 ± r` alike.
     """
 
     name: ClassVar[str] = "xia2024"

@@ -1,7 +1,7 @@
 """The interaction part of the joint stiffness: `∫ k₀ n (1/(1 ± r) - 1) da` over each regime.
 
 With `ω = ξ ± σ` the asperity stiffness is `k₀/(1 ± r)`, `k₀ = f'/ξ'` and `r = σ'/ξ'` a power law
-in each regime (MODEL.md §3). The closed form `∫ k₀ n da` is the stiffness without interaction;
+in each regime (docs/model.md §3). The closed form `∫ k₀ n da` is the stiffness without interaction;
 these are the corrections to it, the only integrals of the model done by quadrature (in log-area),
 so that the quadrature error only touches the (usually small) interaction part.
 

@@ -30,7 +30,7 @@ def _wk_residual(psi, D):
 
 
 def wang_komvopoulos_psi(D):
-    """Domain-extension factor ψ > 1 of Wang & Komvopoulos (MODEL.md §4).
+    """Domain-extension factor ψ > 1 of Wang & Komvopoulos (docs/model.md §4).
 
     Solves `(ψ^((2-D)/2) - (1 + ψ^(-D/2))^(-(2-D)/D)) / ((2-D)/D) = 1`, whose left side
     increases in ψ, by a fixed number of Newton steps clipped to `[1, 4]` (straight-line code:
@@ -80,7 +80,7 @@ class MajumdarBhushan(AbstractDistribution):
 
 
 class WangKomvopoulos(AbstractDistribution):
-    """Eq. (30) times the domain-extension factor `ψ^((2-D)/2)` of Wang & Komvopoulos (MODEL.md §4)."""
+    """Eq. (30) times the domain-extension factor `ψ^((2-D)/2)` of Wang & Komvopoulos (docs/model.md §4)."""
 
     name: ClassVar[str] = "wk"
 

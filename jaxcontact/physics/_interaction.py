@@ -7,7 +7,7 @@ substrate under it by (Eq. 22)
 
 and the asperity's deformation is `ω = ξ ± σ`. The paper's Eqs. (23)–(26) print `ξ - σ`
 (interaction "paper", which makes the joint *stiffer*, as its Fig. 6 shows); its conclusion (3)
-says interaction lowers the stiffness, which is `ξ + σ` (interaction "series"). MODEL.md §3
+says interaction lowers the stiffness, which is `ξ + σ` (interaction "series"). docs/model.md §3
 offers both, and "none" (`ω = ξ`) as the comparator.
 
 In dimensionless form (lengths in `sqrt(A_a)`, pressure in `E`) `σ* = 1.12 √(f* F*)`.

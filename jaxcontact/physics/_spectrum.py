@@ -1,4 +1,4 @@
-"""The power spectrum of the scene's surface, for the models that work from it (MODEL.md §8–9).
+"""The power spectrum of the scene's surface, for the models that work from it (docs/model.md §8–9).
 
 The W-M surface of the scene (D, G) is the isotropic self-affine surface whose line scans have
 the W-M profile's spectrum: `C2D(q) = C0 q^-(6-2D)` in SurfaceTopography's convention
@@ -18,7 +18,7 @@ from jax.scipy.special import gammaln
 
 from ..numerics import exponential_integral
 
-W_M_GAMMA = 1.5  # the W-M series' frequency ratio γ (MODEL.md §8)
+W_M_GAMMA = 1.5  # the W-M series' frequency ratio γ (docs/model.md §8)
 LOG_2PI = math.log(2.0 * math.pi)
 
 

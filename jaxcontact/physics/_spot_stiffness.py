@@ -1,4 +1,4 @@
-"""The stiffness of one contact spot, a choice of the `xia2024` model (MODEL.md §3, §9).
+"""The stiffness of one contact spot, a choice of the `xia2024` model (docs/model.md §3, §9).
 
 - `FamilyDerivative()` ("paper"): Eqs. (27)–(29), `k(a) = f'(a)/ξ'(a)`, the derivative along
   the Majumdar–Bhushan family of *different* asperities. In the elastic regime it is
@@ -47,7 +47,7 @@ class FamilyDerivative(AbstractSpotStiffness):
 
 
 class Sneddon(AbstractSpotStiffness):
-    """`k = 2E √(a/π)` for every spot (MODEL.md §9): the elastic regime's stiffness is the paper's
+    """`k = 2E √(a/π)` for every spot (docs/model.md §9): the elastic regime's stiffness is the paper's
     divided by `(2π/3)(3-D)/(2-D)`."""
 
     name: ClassVar[str] = "sneddon"

@@ -1,4 +1,4 @@
-"""The float parameters of a scene (MODEL.md §1): where each lives, its valid range, its units.
+"""The float parameters of a scene (docs/model.md §1): where each lives, its valid range, its units.
 
 Declared once here and used everywhere a range matters: the checks when a `Surface`, `Material`
 or `Scene` is built, the traced check that flags points whose parameters an optimiser moved out of

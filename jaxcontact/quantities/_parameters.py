@@ -1,4 +1,4 @@
-"""The joint's inputs (MODEL.md §1): the rough surface and the material pair.
+"""The joint's inputs (docs/model.md §1): the rough surface and the material pair.
 
 Both are `equinox.Module`s whose float fields are stored as JAX arrays: pytree leaves, so that
 `eqx.filter_grad` differentiates with respect to them, `eqx.filter_jit` traces them (a new value
@@ -25,7 +25,7 @@ class Surface(eqx.Module):
     - `D`: profile fractal dimension, 1 < D < 2.
     - `G`: fractal roughness (characteristic scale), m, G > 0.
     - `l_min`: lower cutoff length of the fractal range (the smallest asperity base), m, > 0.
-      The elastic stiffness integral diverges at a → 0 for every D (MODEL.md §2), so results
+      The elastic stiffness integral diverges at a → 0 for every D (docs/model.md §2), so results
       depend on `l_min`; the default 1 nm is the paper's implied atomic-scale cutoff.
     """
 

@@ -60,7 +60,7 @@ class DimensionlessScene(eqx.Module):
 
 
 def nondimensionalise(scene) -> DimensionlessScene:
-    """The dimensionless groups of a `Scene` (MODEL.md §1)."""
+    """The dimensionless groups of a `Scene` (docs/model.md §1)."""
     s, m = scene.surface, scene.material
     D = jnp.asarray(s.D)
     log_sqrt_area = 0.5 * jnp.log(scene.area)

@@ -14,7 +14,7 @@ class Status(enum.IntEnum):
       a nominal pressure above E (F* > 1) or a closed interface; for the BEM reference, a contact
       fraction of 99 % or more.
     - `INTERACTION_BREAKDOWN`: interaction "paper", and ω'(a) = ξ' - σ' vanishes inside the
-      stiffness range (MODEL.md §3): the model is not valid there. `a_l` and the load split are
+      stiffness range (docs/model.md §3): the model is not valid there. `a_l` and the load split are
       still reported; the stiffness is NaN.
     - `NOT_CONVERGED`: the a_l solve ran out of steps (`Scene.max_steps`).
     - `INVALID_LOAD`: the load is not a positive finite number (only possible for traced loads;

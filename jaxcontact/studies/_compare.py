@@ -1,4 +1,4 @@
-"""Every model of the joint beside the elastic boundary-element reference (MODEL.md §9–10).
+"""Every model of the joint beside the elastic boundary-element reference (docs/model.md §9–10).
 
 `compare_scene` synthesises realisations of a scene's surface (A_a = L²), solves the BEM at the
 loads and evaluates each model of `COMPARED` on the same (D, G, l_min) and material;

@@ -1,7 +1,7 @@
 """The paper's Figs. 3, 4, 5, 6 and 8 on its dimensionless axes, and the l_min dependence.
 
 Figs. 3–6 use the material of Sec. 5.1 (E = 210 GPa, ν = 0.3, H = 120 GPa, A_a = 1e-4 m²,
-l_min = 1 nm); Fig. 8 and the l_min plot use the Table 1 grinding surface (MODEL.md §7).
+l_min = 1 nm); Fig. 8 and the l_min plot use the Table 1 grinding surface (docs/model.md §7).
 Points that the model flags (interaction breakdown) are left out of the curves and counted
 in the legend, never drawn as numbers.
 """
@@ -137,7 +137,7 @@ def figure8(out):
 
 
 def figure_l_min(out):
-    """K* against the cutoff l_min: the elastic integrals diverge as l_min → 0 (MODEL.md §2)."""
+    """K* against the cutoff l_min: the elastic integrals diverge as l_min → 0 (docs/model.md §2)."""
     fig, ax = subplots(figsize=(6, 4.2))
     G_star = TABLE1["G"] / np.sqrt(AREA)
     material = {k: TABLE1[k] for k in ("E", "nu", "H")}

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import mpmath as mp
 
-# ω = ξ + sign · σ (MODEL.md §3), written here again: an oracle shares nothing with what it checks.
+# ω = ξ + sign · σ (docs/model.md §3), written here again: an oracle shares nothing with what it checks.
 SIGNS = {"none": 0, "paper": -1, "series": 1}
 
 

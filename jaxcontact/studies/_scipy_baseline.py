@@ -1,6 +1,6 @@
 """A plain scipy implementation of the same model (`scipy.integrate.quad` + `scipy.optimize.brentq`).
 
-This is what a user would write without jaxcontact, straight from `MODEL.md`: every integral is
+This is what a user would write without jaxcontact, straight from `docs/model.md`: every integral is
 evaluated by adaptive quadrature in the physical area `a` (no closed forms, no log-space
 tricks beyond the substitution `a = exp(t)` that quad needs to resolve twelve decades), and
 the largest spot `a_l` is found by bracketing. It shares no code with the JAX model on purpose,
@@ -25,7 +25,7 @@ _EP2_END = 0.94 * 110.0**1.146
 
 @dataclass(frozen=True)
 class BaselineParameters:
-    """Inputs of MODEL.md §1, in SI units."""
+    """Inputs of docs/model.md §1, in SI units."""
 
     D: float
     G: float
@@ -40,7 +40,7 @@ class BaselineParameters:
 
 
 def _psi(D: float) -> float:
-    """Wang–Komvopoulos domain-extension factor (MODEL.md §4)."""
+    """Wang–Komvopoulos domain-extension factor (docs/model.md §4)."""
 
     def eq(psi):
         x = (2 - D) / D
@@ -144,7 +144,7 @@ def xia_breakdown(p: BaselineParameters, a_l: float, load: float) -> bool:
 
 
 def jzz_totals(p: BaselineParameters, a_l: float):
-    """(F_t, K_t, A_r) of the JZZ comparator (MODEL.md §5), by quadrature, no cutoff."""
+    """(F_t, K_t, A_r) of the JZZ comparator (docs/model.md §5), by quadrature, no cutoff."""
     ac = critical_area(p)
     dens = _density_factor(p)
 

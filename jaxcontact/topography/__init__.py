@@ -1,4 +1,4 @@
-"""From a measured surface to D, G and l_min, with uncertainty (MODEL.md §8).
+"""From a measured surface to D, G and l_min, with uncertainty (docs/model.md §8).
 
 Reading and synthesis use SurfaceTopography (the `surface` extra: `pip install jaxcontact[surface]`).
 """

@@ -1,4 +1,4 @@
-"""D, G and l_min of a measured or synthetic topography, with uncertainty (MODEL.md §8)."""
+"""D, G and l_min of a measured or synthetic topography, with uncertainty (docs/model.md §8)."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ class Characterisation:
     """What `characterise` found. Lengths in m; G in the W-M convention unless named otherwise.
 
     **Fields:** `D`; `G` (W-M, the model's); `G_structure_function` (the same surface's G in the
-    structure-function convention of MODEL.md §8); `l_min` (the band's short end); `band` (short,
+    structure-function convention of docs/model.md §8); `l_min` (the band's short end); `band` (short,
     long wavelength of the fit, m); `method`; `stderr` and `ci95` (dicts for D and G, Student-t
     over the groups; G's interval is exp(ln G ± t·se)); `covariance` of (D, ln G) and their
     `correlation`; `groups` (independent groups of line scans or segments) and `estimates`
@@ -163,7 +163,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     def _estimate_truncated(curve):
         # A line scan of an areal map sees C2D only up to the grid's cutoff q_c = π/Δx: its PSD is
         # the power law times T(q) = I_{1-(q/q_c)²}(1/2, 5/2 - D) (the share of the qy-integral of
-        # MODEL.md §8 inside the cutoff), which steepens it near q_c. Fitted by fixed point in D.
+        # docs/model.md §8 inside the cutoff), which steepens it near q_c. Fitted by fixed point in D.
         D_k = _estimate_plain(curve)[0]
         for _ in range(4):
             share = special.betainc(0.5, 2.5 - min(max(D_k, 1.01), 1.99), 1.0 - (x * dx / math.pi) ** 2)

@@ -1,4 +1,4 @@
-"""Spectra of the Weierstrass–Mandelbrot surface and the two conventions for its G (MODEL.md §8).
+"""Spectra of the Weierstrass–Mandelbrot surface and the two conventions for its G (docs/model.md §8).
 
 The model's G is the W-M amplitude of `z(x) = G^(D-1) Σ_n cos(2π γ^n x) / γ^((2-D) n)`, γ = 1.5,
 whose profile PSD, in SurfaceTopography's convention (`<h²> = (1/π) ∫_0^∞ C1D dq`, q in rad/m), is
@@ -41,7 +41,7 @@ def convert_G(G, D, source: str = "wm", target: str = "structure-function"):
     """G in one convention → the other (`"wm"`, the model's own; `"structure-function"`).
 
     **Arguments:** `G` (m), `D` (1 < D < 2), `source` and `target` conventions.
-    **Returns:** G in the `target` convention; `G_sf = (2π)^((2-D)/(D-1)) G_wm` (MODEL.md §8).
+    **Returns:** G in the `target` convention; `G_sf = (2π)^((2-D)/(D-1)) G_wm` (docs/model.md §8).
     """
     for name, value in (("source", source), ("target", target)):
         if value not in CONVENTIONS:

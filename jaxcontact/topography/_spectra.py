@@ -2,7 +2,7 @@
 
 Uncertainty comes from the scatter between independent groups (contiguous blocks of line scans
 of an areal map, or segments of one profile), never from the formal error of one averaged
-spectrum (MODEL.md §8). The periodogram follows SurfaceTopography's convention,
+spectrum (docs/model.md §8). The periodogram follows SurfaceTopography's convention,
 `C1D(q_k) = |Δx Σ h_i w_i e^(-i q_k x_i)|² / L` with a Hann window `w` (mean square 1) where the
 scan is not periodic; `tests/test_topography.py` checks it against
 `SurfaceTopography`'s `power_spectrum_from_profile`.

@@ -1,4 +1,4 @@
-"""Synthetic surfaces with known D, G and short cutoff, seeded (MODEL.md §8)."""
+"""Synthetic surfaces with known D, G and short cutoff, seeded (docs/model.md §8)."""
 
 from __future__ import annotations
 
@@ -58,7 +58,7 @@ def _fourier(D, G, size_name, size, grid, l_min, seed, prefactor):
 
 
 def areal_map(D, G, size, grid, *, l_min=None, seed=0):
-    """An isotropic, periodic self-affine map with `C2D = C0 q^-(6-2D)` (MODEL.md §8): its line
+    """An isotropic, periodic self-affine map with `C2D = C0 q^-(6-2D)` (docs/model.md §8): its line
     scans have the PSD of the W-M profile with this D and G. SurfaceTopography's Fourier
     synthesis, with a short cutoff `l_min` (default: the grid's Nyquist wavelength).
 
@@ -70,7 +70,7 @@ def areal_map(D, G, size, grid, *, l_min=None, seed=0):
 
 def random_profile(D, G, length, points, *, l_min=None, seed=0):
     """A self-affine line scan with random phases and amplitudes and the W-M profile's mean PSD,
-    `C1D = K1 q^-(5-2D)` (MODEL.md §8): the continuous-spectrum twin of `wm_profile`, whose
+    `C1D = K1 q^-(5-2D)` (docs/model.md §8): the continuous-spectrum twin of `wm_profile`, whose
     spectrum is a comb of lines. SurfaceTopography's Fourier synthesis; periodic.
 
     **Arguments:** as `wm_profile`. **Returns:** a `SurfaceTopography.UniformLineScan` in metres.
