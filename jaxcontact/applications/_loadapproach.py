@@ -143,7 +143,7 @@ def approach(
 
 
 def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int) -> Approach:
-    """`_approach` through its program kept on disk (`core.exported`, where the command line keeps
+    """`_approach` through its program kept on disk (`programs._exported`, where the command line keeps
     programs): a later process neither traces nor compiles it (tracing alone is ~4 s)."""
     leaves, treedef = jax.tree_util.tree_flatten(scene)
 

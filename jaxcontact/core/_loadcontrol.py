@@ -2,7 +2,7 @@
 
 `solve` checks the loads, makes the scene dimensionless, asks the scene's model for its
 per-load solve (`AbstractContactModel.point_solver`; for the largest-spot models the a_l solve of
-`models.base`), maps it over the loads and rescales the results.
+`models._base`), maps it over the loads and rescales the results.
 
 Failed points never raise and never poison a batch: each is solved at a harmless stand-in
 load, its outputs are replaced by NaN and it is given a non-zero `status`, so the values and

@@ -27,7 +27,7 @@ class Outputs(eqx.Module):
 class NewtonBisection(eqx.Module):
     """The solve for each load's state (the largest spot a_l, or GW's separation): Newton's method
     safeguarded by bisection inside a bracket, differentiated by the implicit function theorem
-    (`numerics.rootfind.solve_increasing`).
+    (`numerics.solve_increasing`).
 
     **Arguments:** `max_steps`, the cap on steps (1 to 10000; a point that reaches it is flagged
     `NOT_CONVERGED`); `tolerance` on the state's logarithm, None for 64 ε of the working dtype.

@@ -1,7 +1,7 @@
 """Greenwood–Williamson with Gaussian summit heights (docs/model.md §9), from the scene's power spectrum.
 
 The summits' density `η`, mean radius `R` and height deviation `σ_s` come from the spectral
-moments `m0, m2, m4` of the surface's PSD on `[2π/L, 2π/l_min]` (`physics.spectrum`) by McCool's
+moments `m0, m2, m4` of the surface's PSD on `[2π/L, 2π/l_min]` (`physics._spectrum`) by McCool's
 relations for an isotropic surface, with Nayak's bandwidth correction of the summit heights
 (McCool, Wear 107, 37, 1986):
 

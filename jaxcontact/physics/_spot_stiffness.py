@@ -6,7 +6,7 @@
 - `Sneddon()` ("sneddon"): `k(a) = 2E √(a/π)`, the stiffness of one circular spot of area `a` on
   an elastic half-space (Sneddon; Hertz), for every spot that is not fully plastic.
 
-Either is then divided by `1 ± r` for the interaction readings (`physics.interaction`).
+Either is then divided by `1 ± r` for the interaction readings (`physics._interaction`).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ fraction of a millisecond to run it). So the program is a plain `jax.jit` of the
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
 load arrays (a single load too) are padded to a few bucket lengths: a user who calls with 1, 7,
 30 and 200 loads compiles the solve twice (32 and 224), and only a cheap slice per length.
-Where the command line keeps programs on disk (`core.exported`), a top-level call reads its
+Where the command line keeps programs on disk (`programs._exported`), a top-level call reads its
 program from there, so that a new process does not trace it again.
 """
 
@@ -25,7 +25,7 @@ from . import _exported as exported
 
 SMALLEST_BUCKET = 32
 QUARTERS_FROM = 128
-SHORT_COMPILE_BELOW = 4096  # the command line's chunk (`applications.chunks.CHUNK`)
+SHORT_COMPILE_BELOW = 4096  # the command line's chunk (`applications._chunks.CHUNK`)
 
 
 def bucket(size: int) -> int:
@@ -67,7 +67,7 @@ class _Program:
 
     def run(self, leaves, loads):
         """The outputs' leaves for concrete arguments, at top level: from a program kept on disk
-        where the command line keeps them (`core.exported`: a new process need not trace it).
+        where the command line keeps them (`programs._exported`: a new process need not trace it).
 
         There, a process makes a few calls per program, so programs for fewer loads than
         `SHORT_COMPILE_BELOW` are compiled for a short compile time (`compiling.FastCompile`:

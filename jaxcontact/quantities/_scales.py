@@ -49,7 +49,7 @@ class DimensionlessScene(eqx.Module):
 
     **Fields:** `D`; `log_G` = ln G*; `log_hardness` = ln(H/E); `nu` = ν; `log_a_min` =
     ln(l_min²/A_a). What a model derives from them (the Kogut–Etsion a_c, the PSD's moments) it
-    derives itself (`physics.asperity.kogut_etsion_laws`, `physics.spectrum`).
+    derives itself (`physics.kogut_etsion_laws`, `physics._spectrum`).
     """
 
     D: Float[Array, ""]

@@ -1,6 +1,6 @@
 """The 200-load curve of `jaxcontact bench` timed as a user's process runs it: JAX's default settings.
 
-The command line runs compiled calls synchronously (`cli.main.command_settings`), and JAX reads
+The command line runs compiled calls synchronously (`cli._process.command_settings`), and JAX reads
 that setting only when it creates its CPU client, so the bench process cannot time the calls as a
 notebook or a script makes them. This module times `curve` (scipy and every jaxcontact call,
 interleaved, in the same run) in a fresh Python process that switches float64 on and nothing else:
