@@ -1,11 +1,14 @@
-"""The elastic boundary-element reference (docs/model.md §10), on ContactMechanics (the `bem` extra).
+"""The elastic boundary-element reference (docs/model.md §10).
 
-`bem_stiffness(topography, E, loads)` solves any areal map; `reference_curves(scene, loads)`
-synthesises realisations of a scene's surface and reports their mean, spread and the grid's
-convergence. Results are cached on disk (`ResultCache`).
+`solve(heights, size, modulus, loads)` is the boundary-element contact in JAX: jit-compiled,
+vmappable, differentiable, with an optional hardness cap. `bem_stiffness(topography, E, loads)`
+solves the same problem with ContactMechanics (the `bem` extra), the independent check;
+`reference_curves(scene, loads)` synthesises realisations of a scene's surface and reports their
+mean, spread and the grid's convergence, cached on disk (`ResultCache`).
 """
 
 from ._cache import CacheWarning, ResultCache, default_directory
+from ._contact import ContactSolution, solve
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._study import ReferenceCurves, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
@@ -14,6 +17,7 @@ __all__ = [
     "BEMResult",
     "BEMSettings",
     "CacheWarning",
+    "ContactSolution",
     "ReferenceCurves",
     "ResultCache",
     "bem_stiffness",
@@ -22,5 +26,6 @@ __all__ = [
     "default_directory",
     "realisation",
     "reference_curves",
+    "solve",
     "synthesised_surface",
 ]

@@ -1,0 +1,132 @@
+"""Load-controlled contact by constrained conjugate gradients (Polonsky & Keer 1999; Bugnicourt,
+Sainsot, Dureisseix & Lubrecht 2018), with the pressure capped at a hardness (the saturated
+"perfectly plastic" surface of Almqvist et al. 2007).
+
+The pressure p ≥ 0 (≤ H) on the grid minimises `½ pᵀCp − pᵀh` at a fixed total `Σp`: the gap
+`g = Cp − h − δ` vanishes where `0 < p < H`, is ≥ 0 where `p = 0` and ≤ 0 where `p = H` (plastic
+flow), and δ, the rigid offset, is the constraint's multiplier. Conjugate-gradient steps run on the
+points strictly between the bounds; a bound point whose gap says it should move inward joins them
+and restarts the conjugacy; after each step the pressure is clipped to its bounds and shifted on
+the free points so that the total stays the load. Everything is in the grid units of `_operator`.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Bool, Float, Int
+
+from ._operator import Compliance
+
+# Shifts that restore the total after clipping (each can push a few small pressures below zero).
+_LOAD_PASSES = 3
+
+
+class ContactState(eqx.Module):
+    """Where the iteration stands: pressure, search direction, conjugacy, count, and the result."""
+
+    pressure: Float[Array, "n n"]
+    direction: Float[Array, "n n"]
+    previous_norm: Float[Array, ""]
+    restart: Bool[Array, ""]
+    iterations: Int[Array, ""]
+    converged: Bool[Array, ""]
+    offset: Float[Array, ""]
+    residual: Float[Array, ""]
+
+
+def _masked_sum(mask, x):
+    return jnp.sum(jnp.where(mask, x, 0.0))
+
+
+def _with_total(pressure, total, hardness):
+    """Clip to [0, H] and shift the points strictly inside so that the sum is `total`."""
+    for _ in range(_LOAD_PASSES):
+        pressure = jnp.clip(pressure, 0.0, hardness)
+        inside = (pressure > 0) & (pressure < hardness)
+        count = jnp.sum(inside)
+        shift = (total - jnp.sum(pressure)) / jnp.maximum(count, 1)
+        pressure = jnp.where(inside, pressure + shift, pressure)
+    return jnp.clip(pressure, 0.0, hardness)
+
+
+def gaps(compliance: Compliance, heights, pressure, hardness):
+    """The gap without offset, the set strictly between the bounds, and the offset that makes the
+    gap's mean over that set zero (the load-control multiplier)."""
+    raw = compliance(pressure) - heights
+    free = (pressure > 0) & (pressure < hardness)
+    offset = _masked_sum(free, raw) / jnp.maximum(jnp.sum(free), 1)
+    return raw - offset, free, offset
+
+
+def contact_cg(
+    compliance: Compliance,
+    heights: Float[Array, "n n"],
+    total: Float[Array, ""],
+    hardness: Float[Array, ""],
+    initial: Float[Array, "n n"],
+    tolerance: float,
+    max_iterations: int,
+) -> ContactState:
+    """The pressure that carries `total` on `heights` (grid units), from `initial`.
+
+    Converged when the gap on the free points, the penetration where p = 0 and the separation where
+    p = H are all below `tolerance` (in the height unit).
+    """
+
+    def residual_of(gap, pressure):
+        free = (pressure > 0) & (pressure < hardness)
+        at_zero, at_cap = pressure <= 0, pressure >= hardness
+        return jnp.max(jnp.where(free, jnp.abs(gap), jnp.where(at_zero, -gap, jnp.where(at_cap, gap, 0.0))).reshape(-1))
+
+    def step(state: ContactState) -> ContactState:
+        p, t = state.pressure, state.direction
+        gap, free, offset = gaps(compliance, heights, p, hardness)
+        residual = residual_of(gap, p)
+        converged = residual <= tolerance
+        norm = _masked_sum(free, gap * gap)
+        beta = jnp.where(state.restart | (state.previous_norm <= 0), 0.0, norm / state.previous_norm)
+        t = jnp.where(free, gap + beta * t, 0.0)
+        r = compliance(t)
+        r = r - _masked_sum(free, r) / jnp.maximum(jnp.sum(free), 1)
+        curvature = _masked_sum(free, r * t)
+        tau = jnp.where(curvature > 0, _masked_sum(free, gap * t) / jnp.where(curvature > 0, curvature, 1.0), 0.0)
+        moved = jnp.where(free, p - tau * t, p)
+        # Bound points whose gap says they should move inward: penetration where p = 0, separation
+        # where p = H. They join the free set; the conjugacy restarts.
+        wrong = ((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0))
+        step_size = jnp.where(tau > 0, tau, 1.0)
+        moved = jnp.where(wrong, p - step_size * gap, moved)
+        moved = _with_total(moved, total, hardness)
+        keep = converged
+        return ContactState(
+            pressure=jnp.where(keep, p, moved),
+            direction=jnp.where(keep, state.direction, t),
+            previous_norm=jnp.where(keep, state.previous_norm, norm),
+            restart=jnp.where(keep, state.restart, jnp.any(wrong)),
+            iterations=state.iterations + jnp.where(keep, 0, 1),
+            converged=converged,
+            offset=offset,
+            residual=residual,
+        )
+
+    def running(state: ContactState):
+        return ~state.converged & (state.iterations < max_iterations)
+
+    dtype = heights.dtype
+    start = ContactState(
+        pressure=_with_total(initial, total, hardness),
+        direction=jnp.zeros_like(heights),
+        previous_norm=jnp.zeros((), dtype),
+        restart=jnp.array(True),
+        iterations=jnp.zeros((), jnp.int32),
+        converged=jnp.array(False),
+        offset=jnp.zeros((), dtype),
+        residual=jnp.full((), jnp.inf, dtype),
+    )
+    state = jax.lax.while_loop(running, step, start)
+    # The loop's last step may have moved p past the check: check the final pressure once more.
+    gap, _, offset = gaps(compliance, heights, state.pressure, hardness)
+    residual = residual_of(gap, state.pressure)
+    return eqx.tree_at(lambda s: (s.converged, s.offset, s.residual), state, (residual <= tolerance, offset, residual))

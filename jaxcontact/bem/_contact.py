@@ -1,0 +1,192 @@
+"""The boundary-element K(F) of a height map in JAX: jit-compiled, vmappable, exactly differentiable.
+
+`solve(heights, size, modulus, loads)` presses a rigid flat on an elastic half-space with the map's
+heights (or, equivalently, the rough rigid surface on a flat one), frictionless and non-adhesive,
+under load control, optionally with the pressure capped at a hardness; docs/model.md §10.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float, Int
+
+from ..numerics._validate import InputError, assigned, check_choice, check_range, concrete
+from ..quantities import Status
+from ._ccg import contact_cg
+from ._operator import SUBSTRATES, Compliance
+from ._tangent import frozen_solution
+
+# Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
+FULL_CONTACT = 0.99
+# The iteration stops when every gap condition holds to this fraction of the heights' rms.
+DEFAULT_TOLERANCE = {np.dtype(np.float64): 1e-9, np.dtype(np.float32): 1e-5}
+SMALLEST_GRID = 8
+
+
+class ContactSolution(eqx.Module):
+    """The boundary-element contact at each load (leading axis: the loads, in the order given).
+
+    **Fields:** `loads` (N); `stiffness` (N/m), the exact tangent `dF/dδ` of the discretised contact
+    (NaN unless `status == 0`); `offset` δ (m), the rigid approach (its zero is arbitrary for a
+    periodic half-space); `contact_fraction` (A_r/A_a, elastic and plastic points); `plastic_fraction`;
+    `mean_gap` (m), the mean separation of the two surfaces; `status` (`jaxcontact.Status`: OK,
+    NOT_CONVERGED, LOAD_OUT_OF_RANGE for a closed interface or a load beyond `hardness × area`,
+    INVALID_LOAD); `iterations` of the constrained conjugate gradients; `pressure` (Pa, loads × n × n)
+    where asked for, else None.
+    """
+
+    loads: Float[Array, " loads"]
+    stiffness: Float[Array, " loads"]
+    offset: Float[Array, " loads"]
+    contact_fraction: Float[Array, " loads"]
+    plastic_fraction: Float[Array, " loads"]
+    mean_gap: Float[Array, " loads"]
+    status: Int[Array, " loads"]
+    iterations: Int[Array, " loads"]
+    pressure: Float[Array, "loads n n"] | None
+
+
+def _check(heights, size, modulus, loads, hardness) -> None:
+    shape = jnp.shape(heights)
+    if len(shape) != 2 or shape[0] != shape[1]:
+        raise InputError(f"heights has shape {shape}: the boundary-element solve takes a square map (n × n)")
+    if shape[0] < SMALLEST_GRID:
+        raise InputError(f"heights is {shape[0]} × {shape[1]}: at least {SMALLEST_GRID} points a side are needed")
+    values = concrete(heights)
+    if values is not None and not np.all(np.isfinite(values)):
+        raise InputError("heights has NaN or infinite values: give a map of finite heights (m)")
+    check_range("size", size, 0.0, meaning="side length, m")
+    check_range("modulus", modulus, 0.0, meaning="contact modulus, Pa")
+    if hardness is not None:
+        check_range("hardness", hardness, 0.0, meaning="Pa")
+    if jnp.ndim(loads) != 1 or jnp.shape(loads)[0] == 0:
+        raise InputError(f"{assigned('loads', repr(jnp.shape(loads)))} must be a non-empty 1-D array of loads (N)")
+    check_range("loads", loads, 0.0, meaning="N")
+
+
+def solve(
+    heights: Float[Array, "n n"],
+    size,
+    modulus,
+    loads: Float[Array, " loads"],
+    *,
+    hardness=None,
+    substrate: str = "periodic",
+    tolerance: float | None = None,
+    max_iterations: int = 2000,
+    pressure: bool = False,
+) -> ContactSolution:
+    """The boundary-element contact of a rough surface at each load (docs/model.md §10).
+
+    **Arguments:**
+
+    - `heights`: the surface's heights, m, an n × n array (rows along x), spacing `size / n`.
+    - `size`: the side length L, m (the nominal area is L²).
+    - `modulus`: the contact modulus E* = E/(1 − ν²) of the pair, Pa.
+    - `loads`: total normal loads, N, a 1-D array (solved in increasing order, each from the last
+      one's pressure, and returned in the order given).
+    - `hardness`: None (elastic), or the pressure cap H, Pa (perfectly plastic points flow at H).
+    - `substrate`: "periodic" (the map repeats; ContactMechanics's `stiffness_q0 = 0`) or "free"
+      (an isolated map on an infinite half-space; the grid is doubled internally).
+    - `tolerance`: on every gap condition, as a fraction of the heights' rms (default 1e-9 in
+      float64, 1e-5 in float32); `max_iterations` of the constrained conjugate gradients.
+    - `pressure`: also return the pressure field at each load.
+
+    **Returns:** a `ContactSolution`. Differentiable (`jax.grad`, `jax.jvp`) with respect to the
+    heights, `modulus`, `hardness` and the loads, by implicit differentiation on the contact set
+    (`_tangent`); `vmap` over maps works. The tangent stiffness is exact for the discretised
+    contact and is piecewise constant in the heights and the load (it changes only where a grid
+    point enters or leaves contact): its derivative with respect to them is zero almost
+    everywhere; the offset, the mean gap and a secant stiffness between two loads vary smoothly.
+
+    **Raises:** `ValueError` for a map that is not square, not finite or smaller than 8 × 8, and
+    for non-positive size, modulus, hardness or concrete loads.
+    """
+    check_choice("substrate", substrate, SUBSTRATES)
+    _check(heights, size, modulus, loads, hardness)
+    dtype = jnp.result_type(heights, loads, 1.0)
+    if tolerance is None:
+        tolerance = DEFAULT_TOLERANCE.get(np.dtype(dtype), 1e-5)
+    arrays = tuple(jnp.asarray(x, dtype) for x in (heights, size, modulus, loads))
+    cap = jnp.asarray(jnp.inf if hardness is None else hardness, dtype)
+    return _solve(*arrays, cap, substrate, float(tolerance), int(max_iterations), bool(pressure))
+
+
+@eqx.filter_jit
+def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure):
+    n = heights.shape[0]
+    compliance = Compliance.build(n, substrate, heights.dtype)
+    rms = jax.lax.stop_gradient(jnp.std(heights))
+    scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
+    spacing = size / n
+    grid_heights = heights / scale
+    elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
+    cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
+    valid = jnp.isfinite(loads) & (loads > 0)
+    fallback = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid)) if loads.size else 1.0
+    totals = jnp.where(valid, loads, jnp.where(jnp.any(valid), fallback, 1e-4 * modulus * size * size))
+    totals = totals / (modulus * scale * spacing)
+    order = jnp.argsort(totals)
+
+    def one(carry, total):
+        previous, previous_total = carry
+        # Half the previous load's pressure scaled to this load, half uniform: every point starts in
+        # contact (the iteration sheds contact faster than it grows it) near the last shape. Over 10
+        # loads on a decade and a half this took 662 iterations, against 766 from uniform alone, 743
+        # from the scaled pressure alone and 916 along the previous tangent (256², D = 1.5).
+        uniform = jnp.full_like(grid_heights, total / grid_heights.size)
+        start = jnp.where(previous_total > 0, 0.5 * previous * (total / previous_total) + 0.5 * uniform, uniform)
+        state = contact_cg(
+            compliance,
+            jax.lax.stop_gradient(grid_heights),
+            jax.lax.stop_gradient(total),
+            jax.lax.stop_gradient(cap),
+            jax.lax.stop_gradient(start),
+            tolerance,
+            max_iterations,
+        )
+        found = state.pressure
+        active, plastic = (found > 0) & (found < cap), found >= cap
+        pressure, offset, stiffness = frozen_solution(
+            compliance, grid_heights, total, cap, active, plastic, found, state.offset, tolerance
+        )
+        gap = compliance(pressure) - grid_heights - offset
+        outputs = dict(
+            pressure=pressure,
+            offset=offset,
+            stiffness=stiffness,
+            contact_fraction=jnp.mean(found > 0),
+            plastic_fraction=jnp.mean(plastic),
+            mean_gap=jnp.mean(jnp.maximum(gap, 0.0)),
+            iterations=state.iterations,
+            converged=state.converged,
+            beyond_capacity=total >= cap * grid_heights.size,
+        )
+        if not with_pressure:
+            del outputs["pressure"]
+        return (jax.lax.stop_gradient(found), total), outputs
+
+    start = (jnp.zeros_like(grid_heights), jnp.zeros((), heights.dtype))
+    _, sorted_outputs = jax.lax.scan(one, start, totals[order])
+    inverse = jnp.argsort(order)
+    out = {k: v[inverse] for k, v in sorted_outputs.items()}
+    status = jnp.select(
+        [~valid, out["beyond_capacity"] | (out["contact_fraction"] >= FULL_CONTACT), ~out["converged"]],
+        [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
+        Status.OK,
+    ).astype(jnp.int32)
+    ok = status == Status.OK
+    return ContactSolution(
+        loads=loads,
+        stiffness=jnp.where(ok, out["stiffness"] * modulus * spacing, jnp.nan),
+        offset=jnp.where(ok, out["offset"] * scale, jnp.nan),
+        contact_fraction=out["contact_fraction"],
+        plastic_fraction=out["plastic_fraction"],
+        mean_gap=jnp.where(ok, out["mean_gap"] * scale, jnp.nan),
+        status=status,
+        iterations=out["iterations"],
+        pressure=out["pressure"] * (modulus * scale / spacing) if with_pressure else None,
+    )

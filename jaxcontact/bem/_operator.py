@@ -1,0 +1,79 @@
+"""The elastic half-space's compliance on a grid: surface displacement from surface pressure, by FFT.
+
+Grid units: lengths in grid spacings Δx, heights and displacements in a height scale s_h, pressure
+in `E s_h / Δx` (E the contact modulus). Then `u = C p` has no parameter left, and float32 works.
+The discretisation is ContactMechanics's (docs/model.md §10), so that the two agree:
+
+- **periodic**: the point Green's function in Fourier space, `û(q) = 2 p̂(q) / (E |q|)`, with the
+  q = 0 compliance set to zero (`stiffness_q0 = 0`: the mean displacement is not fixed, and the
+  offset is minus the change of the mean separation);
+- **free**: Love's displacement at pixel centres from a uniform pressure on each square pixel
+  (Johnson 1985, Eq. 3.25), applied by FFT on a grid doubled in each direction (zero padding), so
+  that the map is an isolated patch on an infinite half-space.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Complex, Float
+
+SUBSTRATES = ("periodic", "free")
+
+
+@functools.cache
+def _periodic_kernel(n: int) -> np.ndarray:
+    """`2/|q|` on the rfft2 grid of an n × n map (q in rad per grid spacing), 0 at q = 0."""
+    k = np.fft.fftfreq(n) * 2 * math.pi
+    k_half = np.fft.rfftfreq(n) * 2 * math.pi
+    q = np.sqrt(k[:, None] ** 2 + k_half[None, :] ** 2)
+    with np.errstate(divide="ignore"):
+        kernel = np.where(q > 0, 2.0 / q, 0.0)
+    return kernel
+
+
+@functools.cache
+def _free_kernel(n: int) -> np.ndarray:
+    """The rfft2 of Love's pixel kernel on the 2n × 2n grid (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
+    a = b = 0.5
+    i = np.arange(2 * n)
+    x = np.where(i <= n, i, i - 2 * n).astype(float)[:, None]
+    y = np.where(i <= n, i, i - 2 * n).astype(float)[None, :]
+
+    def term(s, t, u, v):
+        return s * np.log((t + np.sqrt(t * t + s * s)) / (u + np.sqrt(u * u + v * v)))
+
+    real = (
+        term(x + a, y + b, y - b, x + a)
+        + term(y + b, x + a, x - a, y + b)
+        + term(x - a, y - b, y + b, x - a)
+        + term(y - b, x - a, x + a, y - b)
+    ) / math.pi
+    return np.fft.rfft2(real)
+
+
+class Compliance(eqx.Module):
+    """`u = C p` on an n × n grid (grid units above), periodic or free. Symmetric positive semidefinite
+    (definite for "free"; for "periodic" its null space is the constant pressure)."""
+
+    kernel: Complex[Array, "rows columns"] | Float[Array, "rows columns"]
+    n: int = eqx.field(static=True)
+    free: bool = eqx.field(static=True)
+
+    @classmethod
+    def build(cls, n: int, substrate: str, dtype) -> Compliance:
+        if substrate == "periodic":
+            return cls(jnp.asarray(_periodic_kernel(n), dtype), n, False)
+        complex_dtype = jnp.result_type(dtype, jnp.complex64)
+        return cls(jnp.asarray(_free_kernel(n), complex_dtype), n, True)
+
+    def __call__(self, pressure: Float[Array, "n n"]) -> Float[Array, "n n"]:
+        n = self.n
+        if not self.free:
+            return jnp.fft.irfft2(jnp.fft.rfft2(pressure) * self.kernel, s=(n, n))
+        padded = jnp.zeros((2 * n, 2 * n), pressure.dtype).at[:n, :n].set(pressure)
+        return jnp.fft.irfft2(jnp.fft.rfft2(padded) * self.kernel, s=(2 * n, 2 * n))[:n, :n]

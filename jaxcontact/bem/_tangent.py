@@ -1,0 +1,54 @@
+"""The contact solution on its own contact set, as a differentiable linear problem, and the exact
+tangent stiffness.
+
+At a converged solution the points split into those in elastic contact (A: 0 < p < H, zero gap),
+plastic ones (U: p = H) and the rest (p = 0). With the sets held, the solution solves a linear
+system: `(C p)_A − h_A − δ = 0`, `p_U = H`, `Σ p = P`. With `x1 = C_AA⁻¹ 1` and
+`x2 = C_AA⁻¹ (h_A − (C H 1_U)_A)`: `δ = (P − |U| H − Σ x2) / Σ x1`, `p_A = x2 + δ x1`. Solved
+here by conjugate gradients (`C_AA` is symmetric positive definite unless the interface is closed)
+through `jax.lax.custom_linear_solve` (`jax.scipy.sparse.linalg.cg`), whose derivative rule solves
+the same system again, so that `jax.grad` and `jax.jvp` are exact implicit derivatives with respect
+to the heights, the load and the hardness: the iterations that found the sets are never
+differentiated. Its stopping test is relative to the right-hand side's 2-norm, for the tangent and
+cotangent systems as for the primal one, whatever their scale. The tangent stiffness of the discretised contact is `dP/dδ = Σ x1` (elastic points
+keep their zero gap, plastic ones their p = H): it depends on the sets alone, so that it is
+piecewise constant in the heights, the load and the hardness, and changes only where a grid point
+enters or leaves contact.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+from ._operator import Compliance
+
+
+def _active_solve(compliance: Compliance, active, vector, start, tolerance: float):
+    """`C_AA⁻¹ vector` on the active points (the identity elsewhere keeps the operator invertible)."""
+
+    def matvec(v):
+        return jnp.where(active, compliance(jnp.where(active, v, 0.0)), v)
+
+    solution, _ = jax.scipy.sparse.linalg.cg(matvec, vector, x0=start, tol=tolerance, maxiter=10 * vector.size)
+    return solution
+
+
+def frozen_solution(
+    compliance: Compliance, heights, total, hardness, active, plastic, guess, guess_offset, tolerance: float
+):
+    """`(pressure, offset, stiffness)` on the sets `active` (0 < p < H) and `plastic` (p = H), grid units.
+
+    `guess`, `guess_offset`: the pressure and offset the constrained iteration found (a warm start
+    for the second solve); `tolerance`: the conjugate gradients' relative tolerance.
+    """
+    ones = jnp.where(active, 1.0, 0.0).astype(heights.dtype)
+    x1 = _active_solve(compliance, active, ones, jnp.zeros_like(ones), tolerance)
+    plastic_pressure = jnp.where(plastic, jnp.where(plastic, hardness, 0.0), 0.0).astype(heights.dtype)
+    rhs = jnp.where(active, heights - compliance(plastic_pressure), 0.0)
+    start = jax.lax.stop_gradient(jnp.where(active, guess - guess_offset * x1, 0.0))
+    x2 = _active_solve(compliance, active, rhs, start, tolerance)
+    stiffness = jnp.sum(jnp.where(active, x1, 0.0))
+    offset = (total - jnp.sum(plastic_pressure) - jnp.sum(jnp.where(active, x2, 0.0))) / stiffness
+    pressure = jnp.where(active, x2 + offset * x1, plastic_pressure)
+    return pressure, offset, stiffness
