@@ -6,11 +6,12 @@ plastic ones (U: p = H) and the rest (p = 0). With the sets held, the solution s
 system: `(C p)_A − h_A − δ = 0`, `p_U = H`, `Σ p = P`. With `x1 = C_AA⁻¹ 1` and
 `x2 = C_AA⁻¹ (h_A − (C H 1_U)_A)`: `δ = (P − |U| H − Σ x2) / Σ x1`, `p_A = x2 + δ x1`. Solved
 here by conjugate gradients (`C_AA` is symmetric positive definite unless the interface is closed)
-through `jax.lax.custom_linear_solve` (`jax.scipy.sparse.linalg.cg`), whose derivative rule solves
-the same system again, so that `jax.grad` and `jax.jvp` are exact implicit derivatives with respect
-to the heights, the load and the hardness: the iterations that found the sets are never
-differentiated. Its stopping test is relative to the right-hand side's 2-norm, for the tangent and
-cotangent systems as for the primal one, whatever their scale. The tangent stiffness of the discretised contact is `dP/dδ = Σ x1` (elastic points
+through `jax.lax.custom_linear_solve`, whose derivative rule solves the same system again, so that
+`jax.grad` and `jax.jvp` are exact implicit derivatives with respect to the heights, the load and
+the hardness: the iterations that found the sets are never differentiated. The stopping test is
+relative to the right-hand side's 2-norm, for the tangent and cotangent systems as for the primal
+one, whatever their scale; a zero right-hand side (a flat punch's heights) has the solution 0.
+The tangent stiffness of the discretised contact is `dP/dδ = Σ x1` (elastic points
 keep their zero gap, plastic ones their p = H): it depends on the sets alone, so that it is
 piecewise constant in the heights, the load and the hardness, and changes only where a grid point
 enters or leaves contact.
@@ -24,14 +25,37 @@ import jax.numpy as jnp
 from ._operator import Compliance
 
 
+def _conjugate_gradients(matvec, b, start, tolerance: float, max_steps: int):
+    """Plain CG from `start` until `‖b − A x‖ ≤ tolerance ‖b‖` (or `max_steps`); 0 for b = 0."""
+    bound = (tolerance * jnp.linalg.norm(b)) ** 2
+
+    def running(state):
+        _, r, _, rr, step = state
+        return (rr > bound) & (step < max_steps) & (bound > 0)
+
+    def body(state):
+        x, r, d, rr, step = state
+        Ad = matvec(d)
+        alpha = rr / jnp.sum(d * Ad)
+        x, r = x + alpha * d, r - alpha * Ad
+        rr_new = jnp.sum(r * r)
+        return x, r, r + (rr_new / rr) * d, rr_new, step + 1
+
+    r = b - matvec(start)
+    x, *_ = jax.lax.while_loop(running, body, (start, r, r, jnp.sum(r * r), 0))
+    return jnp.where(bound > 0, x, 0.0)
+
+
 def _active_solve(compliance: Compliance, active, vector, start, tolerance: float):
     """`C_AA⁻¹ vector` on the active points (the identity elsewhere keeps the operator invertible)."""
 
     def matvec(v):
         return jnp.where(active, compliance(jnp.where(active, v, 0.0)), v)
 
-    solution, _ = jax.scipy.sparse.linalg.cg(matvec, vector, x0=start, tol=tolerance, maxiter=10 * vector.size)
-    return solution
+    def solve(operator, b):
+        return _conjugate_gradients(operator, b, start, tolerance, 4 * b.shape[0] + 200)
+
+    return jax.lax.custom_linear_solve(matvec, vector, solve, symmetric=True)
 
 
 def frozen_solution(

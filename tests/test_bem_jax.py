@@ -1,0 +1,222 @@
+"""The JAX boundary-element solve against closed forms (Hertz, a flat punch), against ContactMechanics
+on the same heights (elastic and plastic), its derivatives against central differences, float32,
+and bad input."""
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import BEM_L as L
+from helpers import BEM_SETTING
+
+from jaxcontact import bem
+from jaxcontact.numerics import x64
+
+pytest.importorskip("ContactMechanics")
+SurfaceTopography = pytest.importorskip("SurfaceTopography")
+
+E = BEM_SETTING["E"]
+UNIT_LOAD = E * L * L
+LOADS = np.array([2e-5, 1e-4, 5e-4]) * UNIT_LOAD
+
+
+def centred_grid(n):
+    x = (np.arange(n) + 0.5) / n - 0.5
+    return x[:, None], x[None, :]
+
+
+@pytest.fixture(scope="module")
+def hertz():
+    """A paraboloid (R = 1) on a free half-space (E* = 1), loaded to a contact radius of 51 grid spacings."""
+    x, y = centred_grid(256)
+    a = 0.2
+    return a, bem.solve(jnp.asarray(-(x * x + y * y) / 2), 1.0, 1.0, jnp.array([4 * a**3 / 3]), substrate="free")
+
+
+def test_hertz_contact_radius(hertz):
+    a, sol = hertz
+    np.testing.assert_allclose(math.sqrt(float(sol.contact_fraction[0]) / math.pi), a, rtol=5e-3)
+
+
+def test_hertz_stiffness_is_2Ea(hertz):
+    a, sol = hertz
+    np.testing.assert_allclose(float(sol.stiffness[0]), 2 * a, rtol=5e-3)
+
+
+def test_hertz_approach_is_a_squared_over_R(hertz):
+    a, sol = hertz
+    np.testing.assert_allclose(float(sol.offset[0]), a * a, rtol=5e-3)
+
+
+def test_a_flat_punch_has_the_stiffness_2Ea():
+    """A rigid circular punch of radius a (51 grid spacings): K = 2 E* a (Sneddon)."""
+    x, y = centred_grid(256)
+    a = 0.2
+    heights = jnp.asarray(np.where(x * x + y * y <= a * a, 0.0, -1.0))
+    sol = bem.solve(heights, 1.0, 1.0, jnp.array([1e-3]), substrate="free")
+    np.testing.assert_allclose(float(sol.stiffness[0]), 2 * a, rtol=5e-3)
+
+
+@pytest.fixture(scope="module")
+def surface():
+    return bem.realisation(1.5, 1e-12, L / 64, L, 256, 0)
+
+
+@pytest.fixture(scope="module")
+def against_contactmechanics(surface):
+    """Both solvers on the same 256² periodic surface at contact fractions 0.7-15 %."""
+    mine = bem.solve(jnp.asarray(surface.heights()), L, E, jnp.asarray(LOADS))
+    return mine, bem.bem_stiffness(surface, E, LOADS)
+
+
+def test_the_stiffness_is_contactmechanics_within_1_percent(against_contactmechanics):
+    mine, reference = against_contactmechanics
+    np.testing.assert_allclose(np.asarray(mine.stiffness), reference.stiffness, rtol=1e-2)
+
+
+def test_the_contact_fraction_is_contactmechanics_within_1_percent(against_contactmechanics):
+    mine, reference = against_contactmechanics
+    np.testing.assert_allclose(np.asarray(mine.contact_fraction), reference.contact_fraction, rtol=1e-2)
+
+
+def test_the_offset_is_contactmechanics(against_contactmechanics):
+    """The same discretisation: the same solution, to the solvers' tolerances."""
+    mine, reference = against_contactmechanics
+    np.testing.assert_allclose(np.asarray(mine.offset), reference.offset, rtol=1e-6)
+
+
+def test_a_free_half_space_agrees_with_contactmechanics():
+    surface = bem.realisation(1.5, 1e-12, L / 16, L, 64, 1)
+    topography = SurfaceTopography.Topography(surface.heights(), (L, L), periodic=False)
+    load = LOADS[1:2]
+    mine = bem.solve(jnp.asarray(surface.heights()), L, E, jnp.asarray(load), substrate="free")
+    reference = bem.bem_stiffness(topography, E, load, substrate="free")
+    np.testing.assert_allclose(float(mine.stiffness[0]), reference.stiffness[0], rtol=1e-2)
+
+
+def _contactmechanics_plastic(heights, load, hardness, step=0.02):
+    """K of ContactMechanics's plastic system by its central difference in ln F, a fresh surface per solve
+    (its plastic system keeps the plastic displacement of each solve in the surface)."""
+    from ContactMechanics import PeriodicFFTElasticHalfSpace, make_plastic_system
+
+    n = heights.shape[0]
+    offsets = []
+    for factor in (math.exp(-step), math.exp(step)):
+        topography = SurfaceTopography.PlasticTopography(
+            SurfaceTopography.Topography(heights.copy(), (L, L), periodic=True), hardness
+        )
+        substrate = PeriodicFFTElasticHalfSpace((n, n), E, physical_sizes=(L, L), stiffness_q0=0.0)
+        system = make_plastic_system(substrate=substrate, surface=topography)
+        offsets.append(system.minimize_proxy(external_force=load * factor, pentol=1e-4 * heights.std() / n).offset)
+    return 2 * load * math.sinh(step) / (offsets[1] - offsets[0])
+
+
+@pytest.mark.parametrize("hardness", [3e8, 1e9])
+def test_a_hardness_cap_agrees_with_contactmechanics_plastic_system(surface, hardness):
+    heights = surface.heights()
+    mine = bem.solve(jnp.asarray(heights), L, E, jnp.asarray(LOADS[1:2]), hardness=hardness)
+    assert float(mine.plastic_fraction[0]) > 0  # the cap acts
+    np.testing.assert_allclose(
+        float(mine.stiffness[0]), _contactmechanics_plastic(heights, LOADS[1], hardness), rtol=2e-2
+    )
+
+
+def test_plasticity_softens_the_contact(surface):
+    heights = jnp.asarray(surface.heights())
+    elastic = bem.solve(heights, L, E, jnp.asarray(LOADS[1:2]))
+    plastic = bem.solve(heights, L, E, jnp.asarray(LOADS[1:2]), hardness=3e8)
+    assert float(plastic.stiffness[0]) < 0.95 * float(elastic.stiffness[0])
+
+
+@pytest.fixture(scope="module")
+def small():
+    return jnp.asarray(bem.realisation(1.5, 1e-12, L / 32, L, 128, 0).heights())
+
+
+def _central(f, theta, i, step=1e-6):
+    e = jnp.zeros_like(theta).at[i].set(step)
+    return (f(theta + e) - f(theta - e)) / (2 * step)
+
+
+@pytest.mark.parametrize("hardness", [None, 3e8], ids=["elastic", "plastic"])
+@pytest.mark.parametrize("output", ["offset", "mean_gap"])
+def test_gradients_match_central_differences(small, hardness, output):
+    """With respect to a scale factor of the heights, ln E, ln H and ln F."""
+    loads = jnp.array([1e-4, 3e-4]) * UNIT_LOAD
+
+    def f(theta):
+        s, log_E, log_H, log_F = theta
+        sol = bem.solve(
+            s * small, L, jnp.exp(log_E), loads * jnp.exp(log_F), hardness=None if hardness is None else jnp.exp(log_H)
+        )
+        return jnp.sum(getattr(sol, output))
+
+    theta = jnp.array([1.0, math.log(E), math.log(3e8), 0.0])
+    gradient = jax.grad(f)(theta)
+    differences = jnp.array([_central(f, theta, i) for i in range(4)])
+    np.testing.assert_allclose(gradient, differences, rtol=1e-4, atol=1e-6 * float(jnp.max(jnp.abs(differences))))
+
+
+def test_the_tangent_stiffness_is_proportional_to_the_modulus(small):
+    """dK/dE = K/E exactly; the tangent depends on the contact set alone (zero derivative in the heights)."""
+    load = jnp.array([1e-4]) * UNIT_LOAD
+    K = lambda modulus, s: bem.solve(s * small, L, modulus, load).stiffness[0]  # noqa: E731
+    dK_dE, dK_ds = jax.grad(K, argnums=(0, 1))(jnp.asarray(E), 1.0)
+    np.testing.assert_allclose(float(dK_dE), float(K(E, 1.0)) / E, rtol=1e-10)
+    assert float(dK_ds) == 0.0
+
+
+def test_float32_agrees_with_float64_within_1e_3(surface):
+    heights = surface.heights()
+    double = bem.solve(jnp.asarray(heights), L, E, jnp.asarray(LOADS))
+    with x64(False):
+        single = bem.solve(
+            jnp.asarray(heights, jnp.float32), np.float32(L), np.float32(E), jnp.asarray(LOADS, jnp.float32)
+        )
+        assert single.stiffness.dtype == jnp.float32
+        np.testing.assert_allclose(np.asarray(single.stiffness), np.asarray(double.stiffness), rtol=1e-3)
+
+
+def test_a_batch_of_maps_is_vmapped(small):
+    load = jnp.array([1e-4]) * UNIT_LOAD
+    batch = jax.vmap(lambda h: bem.solve(h, L, E, load).stiffness)(jnp.stack([small, small[::-1]]))
+    np.testing.assert_allclose(
+        batch[:, 0], [float(bem.solve(h, L, E, load).stiffness[0]) for h in (small, small[::-1])], rtol=1e-9
+    )
+
+
+def test_a_load_past_full_contact_is_flagged(small):
+    sol = bem.solve(small, L, E, jnp.array([1e-4, 1.0]) * UNIT_LOAD)
+    np.testing.assert_array_equal(sol.status, [0, 1])
+    assert np.isnan(float(sol.stiffness[1])) and np.isfinite(float(sol.stiffness[0]))
+
+
+def test_a_traced_bad_load_is_flagged_and_the_rest_keeps_finite_gradients(small):
+    def f(loads):
+        sol = bem.solve(small, L, E, loads)
+        return jnp.sum(jnp.where(sol.status == 0, sol.offset, 0.0)), sol.status
+
+    loads = jnp.array([1e-4, jnp.nan, 3e-4]) * UNIT_LOAD
+    (value, status), gradient = jax.value_and_grad(f, has_aux=True)(loads)
+    np.testing.assert_array_equal(status, [0, 4, 0])
+    assert np.all(np.isfinite(np.asarray(gradient)))
+
+
+@pytest.mark.parametrize(
+    "heights, message",
+    [
+        (np.zeros((16, 8)), "must be a square map|takes a square map"),
+        (np.full((16, 16), np.nan), "NaN or infinite"),
+        (np.zeros((4, 4)), "at least 8 points a side"),
+    ],
+)
+def test_bad_maps_are_refused(heights, message):
+    with pytest.raises(ValueError, match=message):
+        bem.solve(jnp.asarray(heights), L, E, jnp.array([1.0]))
+
+
+def test_a_negative_load_is_refused(small):
+    with pytest.raises(ValueError, match=r"loads \(N\) = .* is outside its valid range"):
+        bem.solve(small, L, E, jnp.array([-1.0]))
