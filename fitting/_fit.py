@@ -124,12 +124,17 @@ def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
     return np.concatenate([values, np.repeat(values[:1], -len(values) % multiple, axis=0)])
 
 
-def _padded_curve(loads, stiffness, dtype):
+def _padded_curve(loads, stiffness, dtype, multiple: int = POINTS_MULTIPLE):
     """`(loads, ln stiffness)`, padded with copies of the first point (the caller cuts them off)."""
     return (
-        jnp.asarray(_padded(loads, POINTS_MULTIPLE), dtype),
-        jnp.asarray(np.log(_padded(stiffness, POINTS_MULTIPLE)), dtype),
+        jnp.asarray(_padded(loads, multiple), dtype),
+        jnp.asarray(np.log(_padded(stiffness, multiple)), dtype),
     )
+
+
+def _multiple(scene) -> int:
+    """The curve's padding: `POINTS_MULTIPLE`, or none for a model that does not pad its loads."""
+    return POINTS_MULTIPLE if scene.model.pad_loads else 1
 
 
 def starting_points(params, n_starts: int, seed: int, include=None) -> np.ndarray:
@@ -212,7 +217,7 @@ def fit(
         starts = np.atleast_2d(np.asarray(starts, dtype=float))
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene, _ = prepare(scene, loads)
-    data = _padded_curve(loads, stiffness, dtype)
+    data = _padded_curve(loads, stiffness, dtype, _multiple(scene))
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)
     outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
     u_all = np.stack([o.u for o in outcomes])
@@ -261,9 +266,10 @@ def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
     dtype = jnp.result_type(1.0)
     stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
     stiffness = []
-    for start in range(0, loads.size, POINTS_MULTIPLE):
-        part = loads[start : start + POINTS_MULTIPLE]
-        padded, zeros = _padded_curve(part, np.ones_like(part), dtype)
+    chunk = POINTS_MULTIPLE if scene.model.pad_loads else loads.size
+    for start in range(0, loads.size, chunk):
+        part = loads[start : start + chunk]
+        padded, zeros = _padded_curve(part, np.ones_like(part), dtype, _multiple(scene))
         r, ok, _, _ = residuals_and_jacobian(stat, traced, fitted, padded, zeros)
         stiffness.append(np.where(np.asarray(ok), np.exp(np.asarray(r, dtype=float)), np.nan)[: part.size])
     return np.concatenate(stiffness)

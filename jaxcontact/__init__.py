@@ -11,6 +11,7 @@ docs/architecture.md; the subpackages (`jaxcontact.models`, `jaxcontact.physics`
 `jaxcontact.numerics`, ...) export the pieces a new model is built from.
 """
 
+from .bem import BEM
 from .core import NewtonBisection, Outputs, Scene, Solution, solve, stack_scenes, table1_scene
 from .models import (
     DISTRIBUTIONS,
@@ -92,6 +93,7 @@ __all__ = [
     "JZZ2010",
     "GreenwoodWilliamson",
     "Persson",
+    "BEM",
     "AbstractInteraction",
     "NoInteraction",
     "PaperInteraction",

@@ -20,7 +20,9 @@ from jaxcontact.numerics import x64
 
 jc.register_model(AllElastic)
 
-MODEL_NAMES = tuple(jc.MODELS)
+# The boundary-element model needs a surface its grid resolves (l_min of a few grid spacings, not the
+# Table 1 surface's 1 nm on 1 cm): it passes the same contract on such a scene in test_bem_model.py.
+MODEL_NAMES = tuple(name for name in jc.MODELS if name != "bem")
 F_STAR = np.array([1e-7, 1e-5, 1e-4])
 LOAD_UNIT = TABLE1["E"] * TABLE1["area"]
 LOADS = F_STAR * LOAD_UNIT

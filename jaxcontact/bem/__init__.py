@@ -7,13 +7,16 @@ solves the same problem with ContactMechanics (the `bem` extra), the independent
 mean, spread and the grid's convergence, cached on disk (`ResultCache`).
 """
 
+from ..models import register_model
 from ._cache import CacheWarning, ResultCache, default_directory
 from ._contact import ContactSolution, solve
+from ._model import BEM
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._study import ReferenceCurves, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
 
 __all__ = [
+    "BEM",
     "BEMResult",
     "BEMSettings",
     "CacheWarning",
@@ -29,3 +32,5 @@ __all__ = [
     "solve",
     "synthesised_surface",
 ]
+
+register_model(BEM)  # "bem" in scene files and `Scene(..., model="bem")`

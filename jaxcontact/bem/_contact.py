@@ -7,6 +7,8 @@ under load control, optionally with the pressure capped at a hardness; docs/mode
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -30,16 +32,19 @@ class ContactSolution(eqx.Module):
     """The boundary-element contact at each load (leading axis: the loads, in the order given).
 
     **Fields:** `loads` (N); `stiffness` (N/m), the exact tangent `dF/dδ` of the discretised contact
-    (NaN unless `status == 0`); `offset` δ (m), the rigid approach (its zero is arbitrary for a
+    (NaN unless `status == 0`); `secant_stiffness` (N/m) `2F sinh(ε) / (δ(F e^ε) − δ(F e^−ε))` where
+    asked for (`secant=ε`), else None; `offset` δ (m), the rigid approach (its zero is arbitrary for a
     periodic half-space); `contact_fraction` (A_r/A_a, elastic and plastic points); `plastic_fraction`;
     `mean_gap` (m), the mean separation of the two surfaces; `status` (`jaxcontact.Status`: OK,
     NOT_CONVERGED, LOAD_OUT_OF_RANGE for a closed interface or a load beyond `hardness × area`,
-    INVALID_LOAD); `iterations` of the constrained conjugate gradients; `pressure` (Pa, loads × n × n)
+    INVALID_LOAD); `iterations` of the constrained conjugate gradients (all solves of the load);
+    `pressure` (Pa, loads × n × n)
     where asked for, else None.
     """
 
     loads: Float[Array, " loads"]
     stiffness: Float[Array, " loads"]
+    secant_stiffness: Float[Array, " loads"] | None
     offset: Float[Array, " loads"]
     contact_fraction: Float[Array, " loads"]
     plastic_fraction: Float[Array, " loads"]
@@ -78,6 +83,7 @@ def solve(
     tolerance: float | None = None,
     max_iterations: int = 2000,
     pressure: bool = False,
+    secant: float = 0.0,
 ) -> ContactSolution:
     """The boundary-element contact of a rough surface at each load (docs/model.md §10).
 
@@ -94,6 +100,8 @@ def solve(
     - `tolerance`: on every gap condition, as a fraction of the heights' rms (default 1e-9 in
       float64, 1e-5 in float32); `max_iterations` of the constrained conjugate gradients.
     - `pressure`: also return the pressure field at each load.
+    - `secant`: ε > 0 also solves at `F e^(±ε)` and returns the secant stiffness over them
+      (ContactMechanics's reference takes ε = 0.02), which varies smoothly with the heights.
 
     **Returns:** a `ContactSolution`. Differentiable (`jax.grad`, `jax.jvp`) with respect to the
     heights, `modulus`, `hardness` and the loads, by implicit differentiation on the contact set
@@ -112,23 +120,81 @@ def solve(
         tolerance = DEFAULT_TOLERANCE.get(np.dtype(dtype), 1e-5)
     arrays = tuple(jnp.asarray(x, dtype) for x in (heights, size, modulus, loads))
     cap = jnp.asarray(jnp.inf if hardness is None else hardness, dtype)
-    return _solve(*arrays, cap, substrate, float(tolerance), int(max_iterations), bool(pressure))
+    check_range("secant", secant, 0.0, 0.5, low_open=False)
+    return _solve(*arrays, cap, substrate, float(tolerance), int(max_iterations), bool(pressure), float(secant))
+
+
+class GridProblem(eqx.Module):
+    """A map in grid units (`_operator`): its compliance, heights over `scale` (their rms, or 1 for a
+    flat map), the hardness cap, and the factors back to SI: a load in grid units times
+    `load_unit` is newtons, an offset times `scale` metres, a tangent times `stiffness_unit` N/m."""
+
+    compliance: Compliance
+    heights: Float[Array, "n n"]
+    cap: Float[Array, ""]
+    scale: Float[Array, ""]
+    load_unit: Float[Array, ""]
+    stiffness_unit: Float[Array, ""]
+
+    @classmethod
+    def build(cls, heights, size, modulus, hardness, substrate: str) -> GridProblem:
+        n = heights.shape[-1]
+        rms = jax.lax.stop_gradient(jnp.std(heights))
+        scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
+        spacing = size / n
+        elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
+        cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
+        compliance = Compliance.build(n, substrate, heights.dtype)
+        return cls(compliance, heights / scale, cap, scale, modulus * scale * spacing, modulus * spacing)
+
+
+def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterations: int) -> dict:
+    """The contact at the load `total` (grid units) from the pressure `start`: the constrained
+    iteration finds the contact set (never differentiated), `frozen_solution` the differentiable
+    solution on it. A dict of grid-unit outputs, the pressure among them."""
+    state = contact_cg(
+        problem.compliance,
+        jax.lax.stop_gradient(problem.heights),
+        jax.lax.stop_gradient(total),
+        jax.lax.stop_gradient(problem.cap),
+        jax.lax.stop_gradient(start),
+        tolerance,
+        max_iterations,
+    )
+    found = state.pressure
+    active, plastic = (found > 0) & (found < problem.cap), found >= problem.cap
+    pressure, offset, stiffness = frozen_solution(
+        problem.compliance, problem.heights, total, problem.cap, active, plastic, found, state.offset, tolerance
+    )
+    gap = problem.compliance(pressure) - problem.heights - offset
+    closed = jnp.mean(found > 0) >= FULL_CONTACT
+    return dict(
+        pressure=pressure,
+        found=jax.lax.stop_gradient(found),
+        offset=offset,
+        stiffness=stiffness,
+        contact_fraction=jnp.mean(found > 0),
+        plastic_fraction=jnp.mean(plastic),
+        mean_gap=jnp.mean(jnp.maximum(gap, 0.0)),
+        iterations=state.iterations,
+        status=jnp.select(
+            [closed | (total >= problem.cap * problem.heights.size), ~state.converged],
+            [Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
+            Status.OK,
+        ).astype(jnp.int32),
+    )
 
 
 @eqx.filter_jit
-def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure):
-    n = heights.shape[0]
-    compliance = Compliance.build(n, substrate, heights.dtype)
-    rms = jax.lax.stop_gradient(jnp.std(heights))
-    scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
-    spacing = size / n
-    grid_heights = heights / scale
-    elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
-    cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
+def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure, step):
+    problem = GridProblem.build(heights, size, modulus, hardness, substrate)
     valid = jnp.isfinite(loads) & (loads > 0)
-    fallback = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid)) if loads.size else 1.0
-    totals = jnp.where(valid, loads, jnp.where(jnp.any(valid), fallback, 1e-4 * modulus * size * size))
-    totals = totals / (modulus * scale * spacing)
+    fallback = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid))
+    stand_in = jnp.where(jnp.any(valid), fallback, 1e-4 * modulus * size * size)
+    sides = (-step, 0.0, step) if step > 0 else (0.0,)
+    # Each load and, for the secant, its neighbours e^(±step) F: solved in increasing order.
+    totals = jnp.concatenate([jnp.where(valid, loads, stand_in) * math.exp(side) for side in sides])
+    totals = totals / problem.load_unit
     order = jnp.argsort(totals)
 
     def one(carry, total):
@@ -137,56 +203,35 @@ def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_it
         # contact (the iteration sheds contact faster than it grows it) near the last shape. Over 10
         # loads on a decade and a half this took 662 iterations, against 766 from uniform alone, 743
         # from the scaled pressure alone and 916 along the previous tangent (256², D = 1.5).
-        uniform = jnp.full_like(grid_heights, total / grid_heights.size)
+        uniform = jnp.full_like(problem.heights, total / problem.heights.size)
         start = jnp.where(previous_total > 0, 0.5 * previous * (total / previous_total) + 0.5 * uniform, uniform)
-        state = contact_cg(
-            compliance,
-            jax.lax.stop_gradient(grid_heights),
-            jax.lax.stop_gradient(total),
-            jax.lax.stop_gradient(cap),
-            jax.lax.stop_gradient(start),
-            tolerance,
-            max_iterations,
-        )
-        found = state.pressure
-        active, plastic = (found > 0) & (found < cap), found >= cap
-        pressure, offset, stiffness = frozen_solution(
-            compliance, grid_heights, total, cap, active, plastic, found, state.offset, tolerance
-        )
-        gap = compliance(pressure) - grid_heights - offset
-        outputs = dict(
-            pressure=pressure,
-            offset=offset,
-            stiffness=stiffness,
-            contact_fraction=jnp.mean(found > 0),
-            plastic_fraction=jnp.mean(plastic),
-            mean_gap=jnp.mean(jnp.maximum(gap, 0.0)),
-            iterations=state.iterations,
-            converged=state.converged,
-            beyond_capacity=total >= cap * grid_heights.size,
-        )
+        out = contact_at(problem, total, start, tolerance, max_iterations)
+        found = out.pop("found")
         if not with_pressure:
-            del outputs["pressure"]
-        return (jax.lax.stop_gradient(found), total), outputs
+            del out["pressure"]
+        return (found, total), out
 
-    start = (jnp.zeros_like(grid_heights), jnp.zeros((), heights.dtype))
-    _, sorted_outputs = jax.lax.scan(one, start, totals[order])
+    initial = (jnp.zeros_like(problem.heights), jnp.zeros((), heights.dtype))
+    _, sorted_outputs = jax.lax.scan(one, initial, totals[order])
     inverse = jnp.argsort(order)
-    out = {k: v[inverse] for k, v in sorted_outputs.items()}
-    status = jnp.select(
-        [~valid, out["beyond_capacity"] | (out["contact_fraction"] >= FULL_CONTACT), ~out["converged"]],
-        [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
-        Status.OK,
-    ).astype(jnp.int32)
+    side = {k: v[inverse].reshape(len(sides), -1, *v.shape[1:]) for k, v in sorted_outputs.items()}
+    out = {k: v[len(sides) // 2] for k, v in side.items()}
+    status = jnp.where(valid, out["status"], Status.INVALID_LOAD)
+    secant = None
+    if step > 0:
+        status = jnp.where(valid & (status == Status.OK), jnp.max(side["status"], axis=0), status)
+        rise = jnp.where(status == Status.OK, side["offset"][2] - side["offset"][0], 1.0)
+        secant = 2 * loads * math.sinh(step) / (rise * problem.scale)
     ok = status == Status.OK
     return ContactSolution(
         loads=loads,
-        stiffness=jnp.where(ok, out["stiffness"] * modulus * spacing, jnp.nan),
-        offset=jnp.where(ok, out["offset"] * scale, jnp.nan),
+        stiffness=jnp.where(ok, out["stiffness"] * problem.stiffness_unit, jnp.nan),
+        secant_stiffness=None if secant is None else jnp.where(ok, secant, jnp.nan),
+        offset=jnp.where(ok, out["offset"] * problem.scale, jnp.nan),
         contact_fraction=out["contact_fraction"],
         plastic_fraction=out["plastic_fraction"],
-        mean_gap=jnp.where(ok, out["mean_gap"] * scale, jnp.nan),
+        mean_gap=jnp.where(ok, out["mean_gap"] * problem.scale, jnp.nan),
         status=status,
-        iterations=out["iterations"],
-        pressure=out["pressure"] * (modulus * scale / spacing) if with_pressure else None,
+        iterations=jnp.sum(side["iterations"], axis=0),
+        pressure=out["pressure"] * (problem.load_unit / (size / heights.shape[0]) ** 2) if with_pressure else None,
     )

@@ -162,4 +162,4 @@ def solve(
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
     _, leaves, treedef, loads = _prepare(scene, loads, outputs, solver)
-    return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef))
+    return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef), pad=scene.model.pad_loads)

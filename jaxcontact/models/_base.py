@@ -17,6 +17,7 @@ import abc
 import dataclasses
 import typing
 from collections.abc import Callable
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -63,12 +64,16 @@ class PointResult(eqx.Module):
 class AbstractContactModel(eqx.Module):
     """A statistical model of the joint's normal contact: load ↦ stiffness, real area, status.
 
-    **Class attributes:** `name` (the registry's key, used in scene files and reports) and
-    `regimes` (names of the slots of `Solution.load_share` and `stiffness_share`).
+    **Class attributes:** `name` (the registry's key, used in scene files and reports),
+    `regimes` (names of the slots of `Solution.load_share` and `stiffness_share`), and
+    `pad_loads` (True unless set: eager solves and fits pad load arrays to a few lengths, so that
+    new lengths do not compile again; a model whose every load is a costly solve, such as the
+    boundary-element one, sets it to False).
     """
 
     name: eqx.AbstractClassVar[str]
     regimes: eqx.AbstractClassVar[tuple[str, ...]]
+    pad_loads: ClassVar[bool] = True
 
     @abc.abstractmethod
     def point_solver(

@@ -158,7 +158,7 @@ def _roles(compiled: _Program, size: int, ndim: int, outputs) -> tuple[list[int]
     return compiled.roles[key]
 
 
-def call(function, leaves, treedef, loads, output_tree):
+def call(function, leaves, treedef, loads, output_tree, pad: bool = True):
     """`function(tree, loads)`, for the tree of these leaves, through its cached program; concrete
     loads padded to a bucket.
 
@@ -169,7 +169,7 @@ def call(function, leaves, treedef, loads, output_tree):
     """
     compiled = program(function, treedef)
     run = compiled.run if top_level() else compiled.flat
-    padded_loads = padded(loads)
+    padded_loads = padded(loads) if pad else loads
     if padded_loads is loads:
         outputs = run(leaves, loads)
         return jax.tree_util.tree_unflatten(_output_tree(compiled, output_tree, leaves), outputs)

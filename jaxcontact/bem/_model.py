@@ -1,0 +1,111 @@
+"""The boundary-element reference as a contact model: `Scene(..., model=BEM(...))` solves the scene's
+own surface (synthesised from D, G, l_min with A_a = L², §8) with the JAX solve, through `jc.solve`,
+`fitting.fit` and the command line like any model."""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..models import AbstractContactModel, JointResponse, PointResult
+from ..numerics._validate import InputError, check_range
+from ..quantities import Status
+from ._contact import DEFAULT_TOLERANCE, GridProblem, contact_at
+from ._surfaces import PIXELS_PER_L_MIN
+from ._synthesis import synthesised_heights
+
+
+class BEM(AbstractContactModel):
+    """The elastic (or perfectly plastic) boundary-element contact of the scene's surface (§10).
+
+    **Arguments:**
+
+    - `grid`: points a side, a power of two ≥ 8 (l_min must span 4 grid spacings, else the point
+      is flagged `INVALID_PARAMETERS`).
+    - `realisations`, `seed`: the surface's random realisations (seeds `seed`, `seed + 1`, ...: the
+      surfaces of `bem.reference_curves`); K is their mean.
+    - `plastic`: cap the pressure at the scene's hardness H.
+    - `relative_step`: ε of the secant stiffness `2F sinh(ε)/(δ(F e^ε) − δ(F e^−ε))` (the
+      reference's definition; its derivatives with respect to D, G and l_min are those of a smooth
+      curve); 0 gives the exact tangent of the discretised contact, piecewise constant in D, G, l_min.
+    - `rolloff`: the width, in modes, of the spectrum's cutoff at 2π/l_min (0: sharp, the reference's
+      surfaces exactly, and results piecewise constant in l_min).
+    - `tolerance`, `max_iterations`: of the constrained conjugate gradients.
+
+    One regime, "e"; `Solution.real_area` is the mean contact area, `Solution.a_l` NaN. Each load is
+    its own solve (two for the secant) per realisation: eager solves and fits do not pad the loads.
+    """
+
+    name: ClassVar[str] = "bem"
+    regimes: ClassVar[tuple[str, ...]] = ("e",)
+    pad_loads: ClassVar[bool] = False
+    grid: int = eqx.field(static=True, default=256)
+    realisations: int = eqx.field(static=True, default=2)
+    seed: int = eqx.field(static=True, default=0)
+    plastic: bool = eqx.field(static=True, default=False)
+    relative_step: float = eqx.field(static=True, default=0.02)
+    rolloff: float = eqx.field(static=True, default=2.0)
+    tolerance: float | None = eqx.field(static=True, default=None)
+    max_iterations: int = eqx.field(static=True, default=2000)
+
+    def __check_init__(self):
+        grid = self.grid
+        if isinstance(grid, bool) or not isinstance(grid, int) or grid < 8 or grid & (grid - 1):
+            raise InputError(f"grid = {grid!r} must be a power of two >= 8")
+        count = self.realisations
+        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 64:
+            raise InputError(f"realisations = {count!r} must be an integer in [1, 64]")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise InputError(f"seed = {self.seed!r} must be an integer >= 0")
+        check_range("relative_step", self.relative_step, 0.0, 0.5, low_open=False)
+        check_range("rolloff", self.rolloff, 0.0, 64.0, low_open=False)
+
+    def kink_log_loads(self, s):
+        return jnp.zeros((0,), jnp.result_type(s.D))
+
+    def point_solver(self, s, *, tolerance, max_steps):
+        del tolerance, max_steps  # the model's own, below
+        dtype = jnp.result_type(s.D)
+        seeds = tuple(range(self.seed, self.seed + self.realisations))
+        heights = synthesised_heights(s.D, s.log_G, s.log_a_min, self.grid, seeds, self.rolloff, dtype)
+        resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
+        hardness = jnp.exp(s.log_hardness) if self.plastic else jnp.asarray(jnp.inf, dtype)
+        # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
+        problems = jax.vmap(lambda h: GridProblem.build(h, 1.0, 1.0, hardness, "periodic"))(heights)
+        tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
+        sides = (-self.relative_step, self.relative_step) if self.relative_step > 0 else (0.0,)
+
+        def one_realisation(problem, load):
+            outs = []
+            for side in sides:
+                total = load * math.exp(side) / problem.load_unit
+                start = jnp.full_like(problem.heights, total / problem.heights.size)
+                outs.append(contact_at(problem, total, start, tolerance, self.max_iterations))
+            status = jnp.max(jnp.stack([o["status"] for o in outs]))
+            if len(outs) == 2:
+                rise = (outs[1]["offset"] - outs[0]["offset"]) * problem.scale
+                stiffness = 2 * load * math.sinh(self.relative_step) / jnp.where(status == Status.OK, rise, 1.0)
+            else:
+                stiffness = outs[0]["stiffness"] * problem.stiffness_unit
+            fraction = sum(o["contact_fraction"] for o in outs) / len(outs)
+            return stiffness, fraction, status
+
+        def one_point(F_star) -> PointResult:
+            valid = jnp.isfinite(F_star) & (F_star > 0)
+            load = jnp.where(valid, F_star, 1e-4)
+            stiffness, fraction, status = jax.vmap(one_realisation, in_axes=(0, None))(problems, load)
+            status = jnp.select(
+                [~resolved, ~valid],
+                [Status.INVALID_PARAMETERS, Status.INVALID_LOAD],
+                jnp.max(status),
+            ).astype(jnp.int32)
+            ok = status == Status.OK
+            mean = jnp.mean(jnp.where(ok, stiffness, 1.0))
+            response = JointResponse(load[None], mean[None], jnp.mean(fraction), jnp.array(False))
+            return PointResult(jnp.full_like(load, jnp.nan), response, status)
+
+        return one_point

@@ -1,0 +1,121 @@
+"""The boundary-element model (`jc.BEM`) through `jc.solve`: the reference's surfaces and K, the
+model contract on a surface its grid resolves, derivatives in D, G and l_min, fitting."""
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import BEM_L as L
+from helpers import BEM_SETTING, make_scene
+
+import jaxcontact as jc
+from jaxcontact import bem
+from jaxcontact.numerics import x64
+
+pytest.importorskip("ContactMechanics")
+
+E = BEM_SETTING["E"]
+UNIT = E * L * L
+LOADS = np.array([1e-4, 3e-4]) * UNIT
+SMALL = dict(BEM_SETTING, l_min=L / 12)  # 5.3 grid spacings on 64²
+
+
+def small_scene(**options):
+    return make_scene(**SMALL, model=jc.BEM(**{"grid": 64, "realisations": 2, **options}))
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return small_scene()
+
+
+def test_the_sharp_cutoff_gives_the_references_surfaces_and_stiffness():
+    """Surface by surface the ContactMechanics reference (`reference_curves`) and the JAX model agree."""
+    setting = dict(BEM_SETTING, l_min=L / 32)
+    model = make_scene(**setting, model=jc.BEM(grid=128, realisations=2, rolloff=0.0))
+    mine = jc.solve(model, LOADS)
+    reference = bem.reference_curves(model, LOADS, grid=128, realisations=2, convergence=False)
+    np.testing.assert_allclose(np.asarray(mine.stiffness), reference.mean, rtol=1e-5)
+
+
+def test_the_name_is_registered():
+    assert isinstance(make_scene(**SMALL, model="bem").model, jc.BEM)
+
+
+def test_jit_and_vmap_over_loads_give_the_eager_solve(scene):
+    eager = np.asarray(jc.solve(scene, LOADS).stiffness)
+    jitted = np.asarray(jax.jit(jc.solve)(scene, jnp.asarray(LOADS)).stiffness)
+    mapped = np.asarray(jax.vmap(lambda F: jc.solve(scene, F).stiffness)(jnp.asarray(LOADS)))
+    np.testing.assert_allclose(jitted, eager, rtol=1e-10)
+    np.testing.assert_allclose(mapped, eager, rtol=1e-10)
+
+
+def _log_stiffness(scene, theta, loads=jnp.asarray(LOADS)):
+    D, log_G, log_l_min = theta
+    moved = eqx.tree_at(
+        lambda s: (s.surface.D, s.surface.G, s.surface.l_min), scene, (D, jnp.exp(log_G), jnp.exp(log_l_min))
+    )
+    sol = jc.solve(moved, loads)
+    return jnp.sum(jnp.where(sol.ok, jnp.log(jnp.where(sol.ok, sol.stiffness, 1.0)), 0.0))
+
+
+@pytest.fixture(scope="module")
+def gradient(scene):
+    theta = jnp.array([SMALL["D"], math.log(SMALL["G"]), math.log(SMALL["l_min"])])
+    f = jax.jit(lambda t: _log_stiffness(scene, t))
+    return f, theta, jax.grad(lambda t: _log_stiffness(scene, t))(theta)
+
+
+@pytest.mark.parametrize("index, rtol", [(0, 1e-4), (1, 1e-4), (2, 1e-3)], ids=["D", "G", "l_min"])
+def test_the_gradient_matches_central_differences(gradient, index, rtol):
+    """Through the synthesis (a cutoff two modes wide), the solve's implicit derivative and the secant.
+    Steps of 1e-6: the secant has kinks where a grid point enters contact, a few 1e-5 apart in D; the
+    l_min derivative is a small number whose differences carry ~1e-4 relative noise."""
+    f, theta, g = gradient
+    e = jnp.zeros(3).at[index].set(1e-6)
+    np.testing.assert_allclose(float(g[index]), float((f(theta + e) - f(theta - e)) / 2e-6), rtol=rtol)
+
+
+def test_float32_agrees_with_float64(scene):
+    double = np.asarray(jc.solve(scene, LOADS).stiffness)
+    with x64(False):
+        single = jc.solve(small_scene(), LOADS.astype(np.float32))
+        assert single.stiffness.dtype == jnp.float32
+        np.testing.assert_allclose(np.asarray(single.stiffness), double, rtol=1e-3)
+
+
+def test_a_bad_load_is_flagged_and_leaves_the_others_and_their_gradient(scene):
+    loads = jnp.asarray([LOADS[0], jnp.nan, LOADS[1]])  # traced: a status, not an error
+    sol = jax.jit(jc.solve)(scene, loads)
+    np.testing.assert_array_equal(sol.status, [0, jc.Status.INVALID_LOAD, 0])
+    alone = np.asarray(jc.solve(scene, LOADS).stiffness)
+    np.testing.assert_allclose(np.asarray(sol.stiffness)[[0, 2]], alone, rtol=1e-10)
+    theta = jnp.array([SMALL["D"], math.log(SMALL["G"]), math.log(SMALL["l_min"])])
+    gradient = jax.jit(jax.grad(lambda t, F: _log_stiffness(scene, t, F)))(theta, loads)
+    assert np.all(np.isfinite(np.asarray(gradient)))
+
+
+def test_a_grid_too_coarse_for_l_min_is_flagged():
+    coarse = make_scene(**dict(BEM_SETTING, l_min=L / 32), model=jc.BEM(grid=64, realisations=1))
+    assert int(jc.solve(coarse, LOADS[:1]).status[0]) == jc.Status.INVALID_PARAMETERS
+
+
+def test_plasticity_lowers_the_stiffness(scene):
+    elastic = np.asarray(jc.solve(scene, LOADS).stiffness)
+    plastic = np.asarray(jc.solve(small_scene(plastic=True), LOADS).stiffness)
+    assert np.all(plastic < elastic)
+
+
+def test_a_fit_to_its_own_curve_recovers_D_and_G(scene):
+    """Noiseless, one realisation on 64²: the model fitted to its own curve returns its D and G."""
+    import fitting
+
+    truth = small_scene(realisations=1)
+    loads = np.geomspace(5e-5, 1e-3, 6) * UNIT
+    stiffness = np.asarray(jc.solve(truth, loads).stiffness)
+    start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), truth, (1.45, 2e-12))
+    result = fitting.fit(loads, stiffness, start, params=("D", "G"), method="lm", n_starts=1)
+    np.testing.assert_allclose([result.values["D"], result.values["G"]], [SMALL["D"], SMALL["G"]], rtol=1e-3)
