@@ -15,7 +15,7 @@ pytest.importorskip("ContactMechanics")
 def default_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("compare")
     argv = ["compare", "--grid", "256", "--realisations", "1", "--out", str(out), "--cache-dir", str(out / "cache")]
-    return out, argv
+    return out, [*argv, "--reference", "contactmechanics"]
 
 
 def test_compare_writes_rows_for_every_model(default_run, capsys):
@@ -32,6 +32,18 @@ def test_compare_prints_the_grid_convergence(default_run, capsys):
     _, argv = default_run
     assert main([*argv, "--no-progress"]) == 0  # read back from the cache
     assert "grid convergence: K at 128² differs from 256² by at most" in capsys.readouterr().out
+
+
+def test_the_jax_reference_gives_contactmechanicss_table(default_run, capsys):
+    """`--reference jax` (the default) against ContactMechanics on the same surfaces and loads."""
+    _, argv = default_run
+    assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    reference = json.loads(capsys.readouterr().out)["rows"]
+    assert main([*argv[:-2], "--format", "json", "--no-progress"]) == 0
+    mine = json.loads(capsys.readouterr().out)["rows"]
+    np.testing.assert_allclose(
+        [r["K_bem_mean_N_per_m"] for r in mine], [r["K_bem_mean_N_per_m"] for r in reference], rtol=1e-5
+    )
 
 
 def test_an_edited_cache_entry_is_recomputed_and_reported_once(default_run, capsys):

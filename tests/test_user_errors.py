@@ -23,7 +23,7 @@ def a_map(tmp_path):
     [
         ("SurfaceTopography", ["surface", "{map}", "--size", "1e-3", "1e-3"], "surface"),
         ("SurfaceTopography", ["run", "--topography", "{map}", "--size", "1e-3", "1e-3"], "surface"),
-        ("ContactMechanics", ["compare", "--realisations", "1", "--no-cache"], "bem"),
+        ("ContactMechanics", ["compare", "--realisations", "1", "--reference", "contactmechanics"], "bem"),
     ],
 )
 def test_a_missing_extra_is_one_line_naming_it(monkeypatch, capsys, tmp_path, a_map, package, argv, extra):

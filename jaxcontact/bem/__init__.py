@@ -12,7 +12,7 @@ from ._cache import CacheWarning, ResultCache, default_directory
 from ._contact import ContactSolution, solve
 from ._model import BEM
 from ._solver import BEMResult, BEMSettings, bem_stiffness
-from ._study import ReferenceCurves, realisation, reference_curves
+from ._study import REFERENCES, ReferenceCurves, jax_curve, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
 
 __all__ = [
@@ -21,12 +21,14 @@ __all__ = [
     "BEMSettings",
     "CacheWarning",
     "ContactSolution",
+    "REFERENCES",
     "ReferenceCurves",
     "ResultCache",
     "bem_stiffness",
     "check_grid",
     "coarsened",
     "default_directory",
+    "jax_curve",
     "realisation",
     "reference_curves",
     "solve",

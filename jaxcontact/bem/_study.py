@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..numerics._validate import InputError, assigned
+from ..numerics._validate import InputError, assigned, check_choice
 from ._cache import ResultCache
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._surfaces import check_grid, coarsened, synthesised_surface
@@ -86,6 +86,33 @@ def realisation(D, G, l_min, size, grid, seed):
     return coarsened(surface, fine // grid) if fine > grid else surface
 
 
+REFERENCES = ("jax", "contactmechanics")
+
+
+def jax_curve(topography, modulus: float, loads, settings: BEMSettings = BEMSettings()) -> BEMResult:
+    """`bem_stiffness`'s result by the JAX solve (`solve`) on a periodic map: the same secant in ln F
+    (`settings.relative_step`), the same status codes."""
+    import jax.numpy as jnp
+
+    from ._contact import solve
+
+    heights = jnp.asarray(topography.heights())
+    size = float(topography.physical_sizes[0])
+    loads = np.atleast_1d(np.asarray(loads, dtype=float))
+    sol = solve(heights, size, modulus, jnp.asarray(loads, heights.dtype), secant=settings.relative_step)
+    return BEMResult(
+        loads=loads,
+        stiffness=np.asarray(sol.secant_stiffness, dtype=float),
+        offset=np.asarray(sol.offset, dtype=float),
+        contact_fraction=np.asarray(sol.contact_fraction, dtype=float),
+        status=np.asarray(sol.status, dtype=np.int32),
+        iterations=np.asarray(sol.iterations, dtype=int),
+        grid=tuple(int(n) for n in topography.nb_grid_pts),
+        size=tuple(float(s) for s in topography.physical_sizes),
+        modulus=float(modulus),
+    )
+
+
 def reference_curves(
     scene,
     loads,
@@ -97,14 +124,19 @@ def reference_curves(
     settings: BEMSettings = BEMSettings(),
     cache: ResultCache | None = None,
     progress: Callable[[int, int], None] | None = None,
+    reference: str = "jax",
 ) -> ReferenceCurves:
     """The BEM K(F) of a scene's surface (D, G, l_min; `A_a = L²`) and modulus, over realisations.
 
     **Arguments:** `scene` (a `jaxcontact.Scene`; its E is the contact modulus), `loads` (N),
     `grid` (points per side, a power of two that gives `l_min` ≥ 4 grid spacings),
     `realisations` (seeds `seed`, `seed + 1`, ...), `convergence` (also solve the first realisation
-    on `grid/2`), `settings`, `cache`, `progress` (called as `progress(done, total)` over all loads).
+    on `grid/2`), `settings`, `cache` (ContactMechanics's results), `progress` (called as
+    `progress(done, total)` over all loads), `reference`: "jax" (`solve`, the default) or
+    "contactmechanics" (`bem_stiffness`, the independent check); both solve the same discretisation
+    and agree to their tolerances.
     """
+    check_choice("reference", reference, REFERENCES)
     if isinstance(realisations, bool) or not isinstance(realisations, int) or not 1 <= realisations <= 64:
         raise InputError(f"{assigned('realisations', repr(realisations))} must be an integer in [1, 64]")
     D, G, l_min = (float(x) for x in (scene.surface.D, scene.surface.G, scene.surface.l_min))
@@ -119,11 +151,16 @@ def reference_curves(
         if progress is not None:
             progress(done[0] + step, total)
 
+    def curve(surface):
+        if reference == "jax":
+            result = jax_curve(surface, modulus, loads, settings)
+            advance(len(loads), None)
+            return result
+        return bem_stiffness(surface, modulus, loads, settings=settings, cache=cache, progress=advance)
+
     results = []
     for surface in surfaces:
-        results.append(bem_stiffness(surface, modulus, loads, settings=settings, cache=cache, progress=advance))
+        results.append(curve(surface))
         done[0] += len(loads)
-    coarse = None
-    if convergence:
-        coarse = bem_stiffness(coarsened(surfaces[0]), modulus, loads, settings=settings, cache=cache, progress=advance)
+    coarse = curve(coarsened(surfaces[0])) if convergence else None
     return ReferenceCurves(tuple(results), seeds, grid, coarse)

@@ -13,7 +13,11 @@ def cmd_compare(args) -> int:
     from ..studies._compare import COMPARED, compare_scene, validation_rows
     from ._report import write_csv
 
-    optional_import("ContactMechanics", "the boundary-element reference of jaxcontact compare")  # before any work
+    # Before any work: ContactMechanics for its reference (and for measured maps, which may not be
+    # square), SurfaceTopography for the synthesised surfaces either way.
+    optional_import("SurfaceTopography", "jaxcontact compare's surfaces")
+    if args.topography or args.reference == "contactmechanics":
+        optional_import("ContactMechanics", "the boundary-element reference of jaxcontact compare")
 
     out = pathlib.Path(args.out)
     if args.topography:
@@ -21,7 +25,9 @@ def cmd_compare(args) -> int:
 
         return compare_measured(args, out, cache(args), progress(args, "BEM"))
     spec = compare_spec(args)
-    options = dict(grid=args.grid, realisations=args.realisations, seed=args.seed, cache=cache(args))
+    options = dict(
+        grid=args.grid, realisations=args.realisations, seed=args.seed, cache=cache(args), reference=args.reference
+    )
     labels = list(COMPARED)
     if args.validation:
         rows = validation_rows(spec.scene, progress=progress(args, "BEM"), convergence=False, **options)

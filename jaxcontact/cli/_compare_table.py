@@ -16,6 +16,12 @@ def add_compare_options(p) -> None:
         help="BEM grid, points per side, a power of two (default 512); a finer measured map is coarsened to it",
     )
     p.add_argument("--realisations", type=int, default=3, help="synthesised surfaces per scene (default 3)")
+    p.add_argument(
+        "--reference",
+        choices=("jax", "contactmechanics"),
+        default="jax",
+        help="boundary-element solver (default: jax; contactmechanics, the independent one, is slower)",
+    )
     p.add_argument("--seed", type=int, default=0, help="seed of the first realisation (default 0)")
     p.add_argument(
         "--cache-dir", help="where BEM results are kept (default: $JAXCONTACT_CACHE_DIR or ~/.cache/jaxcontact)"
