@@ -347,6 +347,31 @@ def test_bench_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     assert saved["scene"]["parameters_SI"]["D"] == TABLE1["D"]
 
 
+_BEM_BENCH = {
+    "per_point_256": {
+        "grid": 256,
+        "points": 3,
+        "jax_tangent": {"s_per_point": 0.1, "compile_s": 2.0, "speedup": 9.0, "K_over_contactmechanics": [1.001]},
+        "jax_secant": {"s_per_point": 0.3, "compile_s": 2.0, "speedup": 3.0, "K_over_contactmechanics": [1.0]},
+        "contactmechanics": {"s_per_point": 0.9},
+    },
+    "memory_1024": {"grid": 1024, "before_MiB": 300.0, "peak_MiB": 700.0},
+}
+
+
+def test_bench_bem_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
+    """`bench --bem` reports each grid's speed-up over ContactMechanics and the memory, as text and JSON."""
+    from jaxcontact.studies import _bem_bench
+
+    monkeypatch.setattr(_bem_bench, "run_bem_bench", lambda progress=None: _BEM_BENCH)
+    assert main(["bench", "--bem", "--out", str(tmp_path), "--no-progress"]) == 0
+    capsys.readouterr()
+    lines = (tmp_path / "bench_bem.txt").read_text().splitlines()
+    assert "256²: ContactMechanics 0.900 s; JAX tangent 0.100 s (9.0x)" in lines[1]
+    assert lines[2] == "  peak memory, one solve on 1024²: 700 MiB (300 before)"
+    assert json.loads((tmp_path / "bench_bem.json").read_text())["per_point_256"]["jax_tangent"]["speedup"] == 9.0
+
+
 def test_bench_compiles_without_the_persistent_cache(tmp_path, capsys, monkeypatch):
     """The bench's compile times are compilations, not reads of `JAXCONTACT_CACHE`."""
     import jax

@@ -139,8 +139,13 @@ def build_parser() -> argparse.ArgumentParser:
     scene_command(
         "accuracy", "error against time for every accuracy knob (reference: mpmath)", cmd_accuracy, "jaxcontact-out"
     )
-    scene_command(
+    p = scene_command(
         "bench", "time the compiled model: speed against scipy, each effect's cost", cmd_bench, "jaxcontact-out"
+    )
+    p.add_argument(
+        "--bem",
+        action="store_true",
+        help="time the JAX boundary-element solve against ContactMechanics instead (256², 512², 1024²; minutes)",
     )
     for command in sub.choices.values():
         command.set_defaults(options_by_name=_options_by_name(command))

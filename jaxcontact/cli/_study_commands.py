@@ -21,6 +21,8 @@ def cmd_bench(args) -> int:
     import os
     import platform
 
+    if args.bem:
+        return _bench_bem(args)
     from ..programs import exported_programs
     from ..studies._bench import run_all
     from ..studies._bench_report import format_markdown, format_results
@@ -44,6 +46,24 @@ def cmd_bench(args) -> int:
     (out / "bench.md").write_text(format_markdown(results, machine, datetime.date.today().isoformat()) + "\n")
     files = [str(out / name) for name in ("bench.txt", "bench.json", "bench.md")]
     print_result({**payload, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def _bench_bem(args) -> int:
+    from ..numerics import optional_import
+    from ..studies._bem_bench import format_bem_bench, run_bem_bench
+    from ._report import to_json
+
+    optional_import("ContactMechanics", "jaxcontact bench --bem's comparison")
+    progress = progress_bar(args.progress, "boundary-element benchmarks", "step")
+    results = run_bem_bench(progress=progress)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    text = format_bem_bench(results)
+    (out / "bench_bem.txt").write_text(text + "\n")
+    (out / "bench_bem.json").write_text(to_json(results) + "\n")
+    files = [str(out / "bench_bem.txt"), str(out / "bench_bem.json")]
+    print_result({**results, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
     return 0
 
 

@@ -21,6 +21,7 @@ from ._validate import (
     check_choice,
     check_instance,
     check_range,
+    optional_import,
 )
 
 __all__ = [
@@ -30,6 +31,7 @@ __all__ = [
     "check_choice",
     "check_instance",
     "check_range",
+    "optional_import",
     "exponential_integral",
     "GaussLegendre",
     "InputError",

@@ -1,0 +1,145 @@
+"""`jaxcontact bench --bem`: the JAX boundary-element solve against ContactMechanics on the same
+surfaces, seconds per K(F) point and their ratio measured in one run, peak memory, and the time of
+a D, G fit with the boundary-element model."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+# The reference surface of docs/model.md §10: L = 100 µm, G = 1e-12 m, E = 210 GPa, D = 1.5, l_min = L/64.
+LENGTH, MODULUS, D, G = 100e-6, 210e9, 1.5, 1e-12
+F_STAR = (2e-5, 1e-4, 5e-4)  # contact fractions ~0.7-15 %
+
+
+def _surface(grid: int):
+    from ..bem import realisation
+
+    return realisation(D, G, LENGTH / 64, LENGTH, grid, 0)
+
+
+def per_point(grid: int, contactmechanics: bool = True) -> dict:
+    """Seconds per K(F) point on `grid`²: JAX (tangent: one solve; secant: three, as the reference)
+    after compilation, best of 2, and ContactMechanics's secant at the same penetration tolerance."""
+    import jax
+    import jax.numpy as jnp
+
+    from ..bem import BEMSettings, bem_stiffness, solve
+
+    surface = _surface(grid)
+    heights = jnp.asarray(surface.heights())
+    loads = np.asarray(F_STAR) * MODULUS * LENGTH**2
+    tolerance = BEMSettings().penetration_tolerance / grid  # ContactMechanics's pentol, per rms height
+    out = {"grid": grid, "points": len(loads)}
+    for label, secant in (("jax_tangent", 0.0), ("jax_secant", 0.02)):
+        run = lambda: solve(heights, LENGTH, MODULUS, jnp.asarray(loads), tolerance=tolerance, secant=secant)  # noqa: E731
+        t = time.perf_counter()
+        jax.block_until_ready(run().stiffness)
+        first = time.perf_counter() - t
+        times = []
+        for _ in range(2):
+            t = time.perf_counter()
+            result = run()
+            jax.block_until_ready(result.stiffness)
+            times.append(time.perf_counter() - t)
+        out[label] = {"s_per_point": min(times) / len(loads), "compile_s": max(first - min(times), 0.0)}
+        out[label + "_stiffness"] = np.asarray(result.secant_stiffness if secant else result.stiffness).tolist()
+    if contactmechanics:
+        t = time.perf_counter()
+        reference = bem_stiffness(surface, MODULUS, loads)
+        out["contactmechanics"] = {"s_per_point": (time.perf_counter() - t) / len(loads)}
+        out["contactmechanics_stiffness"] = reference.stiffness.tolist()
+        for label in ("jax_tangent", "jax_secant"):
+            out[label]["speedup"] = out["contactmechanics"]["s_per_point"] / out[label]["s_per_point"]
+            out[label]["K_over_contactmechanics"] = (
+                np.asarray(out[label + "_stiffness"]) / reference.stiffness
+            ).tolist()
+    return out
+
+
+_MEMORY_CHILD = """
+import json, resource, sys, jax, jax.numpy as jnp, numpy as np
+jax.config.update("jax_enable_x64", True)
+from jaxcontact.studies._bem_bench import LENGTH, MODULUS, F_STAR
+from jaxcontact import bem
+grid = int(sys.argv[1])
+heights = jnp.asarray(np.random.default_rng(0).normal(size=(grid, grid)) * 1e-7)
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+sol = bem.solve(heights, LENGTH, MODULUS, jnp.asarray([F_STAR[1] * MODULUS * LENGTH**2]), max_iterations=50)
+jax.block_until_ready(sol.offset)
+print(json.dumps({"before_MiB": before / 1024, "peak_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def memory(grid: int) -> dict:
+    """Peak resident memory of a process that solves one load on `grid`² (50 iterations of a random map)."""
+    child = subprocess.run([sys.executable, "-c", _MEMORY_CHILD, str(grid)], capture_output=True, text=True, check=True)
+    return {"grid": grid, **json.loads(child.stdout.strip().splitlines()[-1])}
+
+
+def fit_time(grid: int = 256, realisations: int = 2, loads: int = 6) -> dict:
+    """A D, G fit (LM, one start from D = 1.45, G = 2e-12) with the BEM model to its own curve."""
+    import equinox as eqx
+
+    import fitting
+
+    from .. import BEM, Material, Scene, Surface, solve
+
+    truth = Scene(Surface(D=D, G=G, l_min=LENGTH / 64), Material(E=MODULUS, nu=0.3, H=3e8), LENGTH**2)
+    truth = truth.with_model(BEM(grid=grid, realisations=realisations))
+    F = np.geomspace(5e-5, 1e-3, loads) * MODULUS * LENGTH**2
+    K = np.asarray(solve(truth, F).stiffness) * np.exp(0.03 * np.random.default_rng(1).standard_normal(loads))
+    start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), truth, (1.45, 2e-12))
+    t = time.perf_counter()
+    result = fitting.fit(F, K, start, params=("D", "G"), method="lm", n_starts=1)
+    return {
+        "grid": grid,
+        "realisations": realisations,
+        "loads": loads,
+        "seconds": time.perf_counter() - t,
+        "D": result.values["D"],
+        "G": result.values["G"],
+        "ci95": {k: list(v) for k, v in result.ci95.items()},
+        "success": bool(result.success),
+    }
+
+
+def run_bem_bench(grids=(256, 512, 1024), memory_grids=(1024, 2048), progress=None) -> dict:
+    steps = [(f"per_point_{g}", lambda g=g: per_point(g)) for g in grids]
+    steps += [(f"memory_{g}", lambda g=g: memory(g)) for g in memory_grids]
+    steps.append(("fit", fit_time))
+    out = {}
+    for name, step in steps if progress is None else progress(steps):
+        out[name] = step()
+    return out
+
+
+def format_bem_bench(r: dict) -> str:
+    lines = ["boundary-element K(F) per point (3 loads, contact fractions 0.7-15 %), JAX after compilation:"]
+    for key, v in r.items():
+        if key.startswith("per_point"):
+            cm = v.get("contactmechanics", {}).get("s_per_point", math.nan)
+            t, s = v["jax_tangent"], v["jax_secant"]
+            lines.append(
+                f"  {v['grid']}²: ContactMechanics {cm:.3f} s; JAX tangent {t['s_per_point']:.3f} s "
+                f"({t.get('speedup', math.nan):.1f}x), secant {s['s_per_point']:.3f} s "
+                f"({s.get('speedup', math.nan):.1f}x); "
+                f"K/K_CM tangent {np.round(t.get('K_over_contactmechanics', []), 4).tolist()}, "
+                f"secant {np.round(s.get('K_over_contactmechanics', []), 6).tolist()}"
+            )
+        elif key.startswith("memory"):
+            lines.append(
+                f"  peak memory, one solve on {v['grid']}²: {v['peak_MiB']:.0f} MiB ({v['before_MiB']:.0f} before)"
+            )
+    f = r.get("fit")
+    if f:
+        lines.append(
+            f"D, G fit with BEM(grid={f['grid']}, realisations={f['realisations']}) to {f['loads']} loads: "
+            f"{f['seconds']:.1f} s, D = {f['D']:.4f}, G = {f['G']:.4g} m (truth {D}, {G})"
+        )
+    return "\n".join(lines)
