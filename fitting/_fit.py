@@ -181,7 +181,8 @@ def fit(
     - `max_iter`, `tol`: the cap on iterations (BFGS) or on evaluations of the residuals (LM), and
       the tolerance (BFGS: on the loss's relative progress per iteration and on the gradient; LM:
       MINPACK's `xtol`, `ftol` and `gtol`); `None` picks 1e-15 for BFGS and 1e-10 for LM in
-      float64, 1e-6 in float32.
+      float64, 1e-6 in float32, and never finer than the model's `precision` (1e-6 for the
+      boundary-element model, whose K moves a grid point of contact at a time).
     - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
 
     **Returns:** a `FitResult`.
@@ -209,7 +210,7 @@ def fit(
             raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
     dtype = jnp.result_type(1.0)
     if tol is None:
-        tol = DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6
+        tol = max(DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6, scene.model.precision)
     own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
     if starts is None:
         u0s = starting_points(fitted, n_starts, seed, include=own)

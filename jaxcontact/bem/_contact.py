@@ -185,16 +185,17 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
     )
 
 
-@eqx.filter_jit
-def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure, step):
-    problem = GridProblem.build(heights, size, modulus, hardness, substrate)
+def stand_in_loads(loads, default):
+    """The loads with every NaN or non-positive one replaced by the geometric mean of the valid ones
+    (`default` if none is): solved like the others, then flagged."""
     valid = jnp.isfinite(loads) & (loads > 0)
-    fallback = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid))
-    stand_in = jnp.where(jnp.any(valid), fallback, 1e-4 * modulus * size * size)
-    sides = (-step, 0.0, step) if step > 0 else (0.0,)
-    # Each load and, for the secant, its neighbours e^(±step) F: solved in increasing order.
-    totals = jnp.concatenate([jnp.where(valid, loads, stand_in) * math.exp(side) for side in sides])
-    totals = totals / problem.load_unit
+    mean = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid))
+    return jnp.where(valid, loads, jnp.where(jnp.any(valid), mean, default)), valid
+
+
+def sweep(problem: GridProblem, totals, tolerance: float, max_iterations: int, with_pressure: bool = False) -> dict:
+    """`contact_at` at every load of `totals` (grid units, positive), solved in increasing order,
+    each from the last one's pressure; the outputs in the order given (a leading loads axis)."""
     order = jnp.argsort(totals)
 
     def one(carry, total):
@@ -211,10 +212,21 @@ def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_it
             del out["pressure"]
         return (found, total), out
 
-    initial = (jnp.zeros_like(problem.heights), jnp.zeros((), heights.dtype))
-    _, sorted_outputs = jax.lax.scan(one, initial, totals[order])
+    initial = (jnp.zeros_like(problem.heights), jnp.zeros((), problem.heights.dtype))
+    _, outputs = jax.lax.scan(one, initial, totals[order])
     inverse = jnp.argsort(order)
-    side = {k: v[inverse].reshape(len(sides), -1, *v.shape[1:]) for k, v in sorted_outputs.items()}
+    return {k: v[inverse] for k, v in outputs.items()}
+
+
+@eqx.filter_jit
+def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure, step):
+    problem = GridProblem.build(heights, size, modulus, hardness, substrate)
+    solved, valid = stand_in_loads(loads, 1e-4 * modulus * size * size)
+    sides = (-step, 0.0, step) if step > 0 else (0.0,)
+    # Each load and, for the secant, its neighbours e^(±step) F.
+    totals = jnp.concatenate([solved * math.exp(side) for side in sides]) / problem.load_unit
+    outputs = sweep(problem, totals, tolerance, max_iterations, with_pressure)
+    side = {k: v.reshape(len(sides), -1, *v.shape[1:]) for k, v in outputs.items()}
     out = {k: v[len(sides) // 2] for k, v in side.items()}
     status = jnp.where(valid, out["status"], Status.INVALID_LOAD)
     secant = None

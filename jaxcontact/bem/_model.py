@@ -14,7 +14,7 @@ import jax.numpy as jnp
 from ..models import AbstractContactModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status
-from ._contact import DEFAULT_TOLERANCE, GridProblem, contact_at
+from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep
 from ._surfaces import PIXELS_PER_L_MIN
 from ._synthesis import synthesised_heights
 
@@ -37,12 +37,15 @@ class BEM(AbstractContactModel):
     - `tolerance`, `max_iterations`: of the constrained conjugate gradients.
 
     One regime, "e"; `Solution.real_area` is the mean contact area, `Solution.a_l` NaN. Each load is
-    its own solve (two for the secant) per realisation: eager solves and fits do not pad the loads.
+    its own solve (two for the secant) per realisation, all loads of a call in one increasing sweep
+    from the last load's pressure: eager solves and fits do not pad the loads.
     """
 
     name: ClassVar[str] = "bem"
     regimes: ClassVar[tuple[str, ...]] = ("e",)
     pad_loads: ClassVar[bool] = False
+    # The contact set moves a grid point at a time as D, G, l_min change: K is smooth only to ~1e-6.
+    precision: ClassVar[float] = 1e-6
     grid: int = eqx.field(static=True, default=256)
     realisations: int = eqx.field(static=True, default=2)
     seed: int = eqx.field(static=True, default=0)
@@ -68,6 +71,10 @@ class BEM(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s, *, tolerance, max_steps):
+        curve = self.curve_solver(s, tolerance=tolerance, max_steps=max_steps)
+        return lambda F_star: jax.tree.map(lambda x: x[0], curve(F_star[None]))
+
+    def curve_solver(self, s, *, tolerance, max_steps):
         del tolerance, max_steps  # the model's own, below
         dtype = jnp.result_type(s.D)
         seeds = tuple(range(self.seed, self.seed + self.realisations))
@@ -77,35 +84,33 @@ class BEM(AbstractContactModel):
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
         problems = jax.vmap(lambda h: GridProblem.build(h, 1.0, 1.0, hardness, "periodic"))(heights)
         tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
-        sides = (-self.relative_step, self.relative_step) if self.relative_step > 0 else (0.0,)
+        step = self.relative_step
+        sides = (-step, step) if step > 0 else (0.0,)
 
-        def one_realisation(problem, load):
-            outs = []
-            for side in sides:
-                total = load * math.exp(side) / problem.load_unit
-                start = jnp.full_like(problem.heights, total / problem.heights.size)
-                outs.append(contact_at(problem, total, start, tolerance, self.max_iterations))
-            status = jnp.max(jnp.stack([o["status"] for o in outs]))
-            if len(outs) == 2:
-                rise = (outs[1]["offset"] - outs[0]["offset"]) * problem.scale
-                stiffness = 2 * load * math.sinh(self.relative_step) / jnp.where(status == Status.OK, rise, 1.0)
+        def one_realisation(problem, loads):
+            # All loads (and both sides of each secant) in one increasing sweep, warm-started.
+            totals = jnp.concatenate([loads * math.exp(side) for side in sides]) / problem.load_unit
+            out = sweep(problem, totals, tolerance, self.max_iterations)
+            out = {k: v.reshape(len(sides), -1) for k, v in out.items()}
+            status = jnp.max(out["status"], axis=0)
+            if step > 0:
+                rise = (out["offset"][1] - out["offset"][0]) * problem.scale
+                stiffness = 2 * loads * math.sinh(step) / jnp.where(status == Status.OK, rise, 1.0)
             else:
-                stiffness = outs[0]["stiffness"] * problem.stiffness_unit
-            fraction = sum(o["contact_fraction"] for o in outs) / len(outs)
-            return stiffness, fraction, status
+                stiffness = out["stiffness"][0] * problem.stiffness_unit
+            return stiffness, jnp.mean(out["contact_fraction"], axis=0), status
 
-        def one_point(F_star) -> PointResult:
-            valid = jnp.isfinite(F_star) & (F_star > 0)
-            load = jnp.where(valid, F_star, 1e-4)
-            stiffness, fraction, status = jax.vmap(one_realisation, in_axes=(0, None))(problems, load)
+        def curve(F_star) -> PointResult:
+            loads, valid = stand_in_loads(F_star, 1e-4)
+            stiffness, fraction, status = jax.vmap(one_realisation, in_axes=(0, None))(problems, loads)
             status = jnp.select(
                 [~resolved, ~valid],
                 [Status.INVALID_PARAMETERS, Status.INVALID_LOAD],
-                jnp.max(status),
+                jnp.max(status, axis=0),
             ).astype(jnp.int32)
             ok = status == Status.OK
-            mean = jnp.mean(jnp.where(ok, stiffness, 1.0))
-            response = JointResponse(load[None], mean[None], jnp.mean(fraction), jnp.array(False))
-            return PointResult(jnp.full_like(load, jnp.nan), response, status)
+            mean = jnp.mean(jnp.where(ok, stiffness, 1.0), axis=0)
+            response = JointResponse(loads[:, None], mean[:, None], jnp.mean(fraction, axis=0), jnp.zeros_like(ok))
+            return PointResult(jnp.full_like(loads, jnp.nan), response, status)
 
-        return one_point
+        return curve

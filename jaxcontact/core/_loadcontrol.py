@@ -46,6 +46,20 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
+def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build: str):
+    scene, in_domain = within_domain(scene)
+    s = nondimensionalise(scene)
+    tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
+    model_solve = getattr(scene.model, build)(s, tolerance=tolerance, max_steps=solver.max_steps)
+
+    def flagged(F_star) -> PointResult:
+        point = model_solve(F_star)
+        status = jnp.where(in_domain, point.status, Status.INVALID_PARAMETERS).astype(jnp.int32)
+        return PointResult(point.log_a_l, point.response, status)
+
+    return flagged
+
+
 def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
 
@@ -54,17 +68,13 @@ def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
     parameters are outside their domain get `Status.INVALID_PARAMETERS`.
     """
-    scene, in_domain = within_domain(scene)
-    s = nondimensionalise(scene)
-    tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
-    model_point = scene.model.point_solver(s, tolerance=tolerance, max_steps=solver.max_steps)
+    return _flagged_outside_domain(scene, solver, "point_solver")
 
-    def one_point(F_star) -> PointResult:
-        point = model_point(F_star)
-        status = jnp.where(in_domain, point.status, Status.INVALID_PARAMETERS).astype(jnp.int32)
-        return PointResult(point.log_a_l, point.response, status)
 
-    return one_point
+def curve_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
+    """As `point_solver`, for all loads at once: `F*` (1-D) ↦ `PointResult`s with a loads axis
+    (the model's `curve_solver`)."""
+    return _flagged_outside_domain(scene, solver, "curve_solver")
 
 
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
@@ -83,7 +93,7 @@ def _solve(tree: tuple[Scene, Outputs, NewtonBisection], loads):
     # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
     usable = jnp.isfinite(loads) & (loads > 0)
     load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
-    points = jax.vmap(point_solver(scene, solver))(load_star.reshape(-1))
+    points = curve_solver(scene, solver)(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     solved = is_solved(status)

@@ -20,6 +20,7 @@ from collections.abc import Callable
 from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
@@ -68,12 +69,14 @@ class AbstractContactModel(eqx.Module):
     `regimes` (names of the slots of `Solution.load_share` and `stiffness_share`), and
     `pad_loads` (True unless set: eager solves and fits pad load arrays to a few lengths, so that
     new lengths do not compile again; a model whose every load is a costly solve, such as the
-    boundary-element one, sets it to False).
+    boundary-element one, sets it to False), `precision` (the relative precision of K as the model
+    computes it, 0 for round-off: fits stop no finer than it).
     """
 
     name: eqx.AbstractClassVar[str]
     regimes: eqx.AbstractClassVar[tuple[str, ...]]
     pad_loads: ClassVar[bool] = True
+    precision: ClassVar[float] = 0.0
 
     @abc.abstractmethod
     def point_solver(
@@ -84,6 +87,15 @@ class AbstractContactModel(eqx.Module):
         **Arguments:** `s`, the scene's dimensionless groups (valid parameters: the caller has
         put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
         """
+
+    def curve_solver(
+        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
+    ) -> Callable[[Float[Array, " loads"]], PointResult]:
+        """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis), as `jc.solve` calls
+        the model. The default maps `point_solver` over the loads (`jax.vmap`); a model whose loads
+        are cheaper solved in sequence, each from the last one's solution, overrides it.
+        """
+        return jax.vmap(self.point_solver(s, tolerance=tolerance, max_steps=max_steps))
 
     @abc.abstractmethod
     def kink_log_loads(self, s: DimensionlessScene) -> Float[Array, " kinks"]:
