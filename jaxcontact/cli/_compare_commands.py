@@ -29,22 +29,41 @@ def cmd_compare(args) -> int:
         grid=args.grid, realisations=args.realisations, seed=args.seed, cache=cache(args), reference=args.reference
     )
     labels = list(COMPARED)
+    command = f"--grid {args.grid} --realisations {args.realisations} --seed {args.seed}"
+    if args.plasticity:
+        from ..studies._plasticity import plasticity_rows, plasticity_table
+
+        for H in args.plasticity:
+            if not H > 0:
+                raise CommandError(f"--plasticity H = {H} must be a hardness in Pa, > 0")
+        rows = plasticity_rows(
+            spec.scene,
+            hardnesses=tuple(args.plasticity),
+            grid=args.grid,
+            realisations=args.realisations,
+            seed=args.seed,
+            progress=progress(args, "BEM"),
+        )
+        hardnesses = " ".join(f"{H:g}" for H in args.plasticity)
+        return _table(args, out, rows, "plasticity.csv", f"--plasticity {hardnesses} {command}", plasticity_table(rows))
+    if args.scale:
+        from ..studies._scale import scale_rows, scale_table
+
+        rows = scale_rows(spec.scene, realisations=args.realisations, seed=args.seed, progress=progress(args, "BEM"))
+        flags = f"--scale --realisations {args.realisations} --seed {args.seed}"
+        return _table(args, out, rows, "scale.csv", flags, scale_table(rows))
+    if args.fits:
+        from ..studies._bem_fits import bem_fit_rows, bem_fit_table
+
+        seeds = range(args.seed, args.seed + args.realisations)
+        rows = bem_fit_rows(spec.scene, seeds=seeds, progress=progress(args, "curves"))
+        flags = f"--fits --realisations {args.realisations} --seed {args.seed}"
+        return _table(args, out, rows, "fits.csv", flags, bem_fit_table(rows))
     if args.validation:
         rows = validation_rows(spec.scene, progress=progress(args, "BEM"), convergence=False, **options)
-        out.mkdir(parents=True, exist_ok=True)
-        write_csv(
-            rows,
-            out / "validation.csv",
-            comments=[
-                f"jaxcontact compare --validation --grid {args.grid} "
-                f"--realisations {args.realisations} --seed {args.seed}"
-            ],
-        )
         by_D = sorted({r["D"] for r in rows})
         text = "\n\n".join(f"D = {D}\n" + comparison_table([r for r in rows if r["D"] == D], labels) for D in by_D)
-        files = [str(out / "validation.csv")]
-        print_result({"rows": rows, "files": files}, args.format, f"{text}\n\nwrote {files[0]}")
-        return 0
+        return _table(args, out, rows, "validation.csv", f"--validation {command}", text)
     comparison = compare_scene(spec.scene, spec.loads, progress=progress(args, "BEM"), **options)
     if not comparison.reference.ok.any():
         raise CommandError("the BEM gave no valid point at these loads (see the status column of comparison.csv)")
@@ -66,4 +85,14 @@ def cmd_compare(args) -> int:
         f"{comparison_table(rows, labels)}\n{convergence}\n" + "\n".join(f"wrote {f}" for f in files)
     )
     print_result({"title": spec.title, "rows": rows, "files": files}, args.format, summary)
+    return 0
+
+
+def _table(args, out: pathlib.Path, rows, name: str, options: str, text: str) -> int:
+    from ._report import write_csv
+
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / name, comments=[f"jaxcontact compare {options}"])
+    files = [str(out / name)]
+    print_result({"rows": rows, "files": files}, args.format, f"{text}\n\nwrote {files[0]}")
     return 0

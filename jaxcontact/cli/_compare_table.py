@@ -28,6 +28,25 @@ def add_compare_options(p) -> None:
     )
     p.add_argument("--no-cache", action="store_true", help="solve every load again, keep nothing")
     p.add_argument("--validation", action="store_true", help="the validation table: D = 1.3, 1.5, 1.7 on the scene")
+    p.add_argument(
+        "--scale",
+        action="store_true",
+        help="K against l_min = L/16 ... L/128 at one load per D = 1.3, 1.5, 1.7 (BEM grids 64² to 512²)",
+    )
+    p.add_argument(
+        "--fits",
+        action="store_true",
+        help="D and G fitted to BEM curves of synthetic surfaces (D = 1.3, 1.5, 1.7; --realisations seeds each, "
+        "l_min = L/16 on 64²) by the BEM model and by each comparator",
+    )
+    p.add_argument(
+        "--plasticity",
+        nargs="+",
+        type=float,
+        metavar="H",
+        help="the validation table against the BEM with the pressure capped at each hardness H (Pa), "
+        "on --grid (256 advised) with jaxcontact.BEM",
+    )
     p.add_argument("--substrate", choices=("periodic", "free"), help="half-space for a measured map (--topography)")
     p.add_argument(
         "--no-fit", dest="fit", action="store_false", help="with --topography: skip the fits to the BEM curve"
