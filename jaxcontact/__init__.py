@@ -24,6 +24,7 @@ from .models import (
     AbstractJoint,
     AbstractLargestSpotModel,
     AbstractLoadPieces,
+    AbstractSweptModel,
     GenericLoadPieces,
     GreenwoodWilliamson,
     JointResponse,
@@ -119,6 +120,7 @@ __all__ = [
     # What a new model is built from
     "AbstractContactModel",
     "AbstractLargestSpotModel",
+    "AbstractSweptModel",
     "AbstractJoint",
     "AbstractLoadPieces",
     "GenericLoadPieces",

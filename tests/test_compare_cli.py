@@ -72,6 +72,12 @@ def test_a_grid_too_coarse_is_one_line(capsys, tmp_path):
     assert "(--grid 256 or more, or l_min >=" in err[0]
 
 
+def test_a_hardness_that_is_not_positive_is_one_line(capsys, tmp_path):
+    assert main(["compare", "--plasticity", "1e9", "0", "--out", str(tmp_path), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["jaxcontact compare: error: --plasticity H = 0.0 must be a hardness in Pa, > 0"]
+
+
 @pytest.fixture(scope="module")
 def measured_map(tmp_path_factory):
     path = tmp_path_factory.mktemp("map") / "map.txt"

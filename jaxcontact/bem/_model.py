@@ -11,7 +11,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..models import AbstractContactModel, JointResponse, PointResult
+from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status
 from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep
@@ -19,7 +19,7 @@ from ._surfaces import PIXELS_PER_L_MIN
 from ._synthesis import synthesised_heights
 
 
-class BEM(AbstractContactModel):
+class BEM(AbstractSweptModel):
     """The elastic (or perfectly plastic) boundary-element contact of the scene's surface (§10).
 
     **Arguments:**
@@ -70,11 +70,7 @@ class BEM(AbstractContactModel):
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s, *, tolerance, max_steps):
-        curve = self.curve_solver(s, tolerance=tolerance, max_steps=max_steps)
-        return lambda F_star: jax.tree.map(lambda x: x[0], curve(F_star[None]))
-
-    def curve_solver(self, s, *, tolerance, max_steps):
+    def sweep_solver(self, s, *, tolerance, max_steps):
         del tolerance, max_steps  # the model's own, below
         dtype = jnp.result_type(s.D)
         seeds = tuple(range(self.seed, self.seed + self.realisations))

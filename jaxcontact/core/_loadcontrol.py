@@ -17,6 +17,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..models import PointResult
+from ..models import curve_solver as model_curve_solver
 from ..numerics._elementwise import unrolled_sum
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
@@ -46,11 +47,11 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
-def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build: str):
+def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build):
     scene, in_domain = within_domain(scene)
     s = nondimensionalise(scene)
     tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
-    model_solve = getattr(scene.model, build)(s, tolerance=tolerance, max_steps=solver.max_steps)
+    model_solve = build(scene.model, s, tolerance=tolerance, max_steps=solver.max_steps)
 
     def flagged(F_star) -> PointResult:
         point = model_solve(F_star)
@@ -68,13 +69,13 @@ def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
     parameters are outside their domain get `Status.INVALID_PARAMETERS`.
     """
-    return _flagged_outside_domain(scene, solver, "point_solver")
+    return _flagged_outside_domain(scene, solver, type(scene.model).point_solver)
 
 
 def curve_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     """As `point_solver`, for all loads at once: `F*` (1-D) ↦ `PointResult`s with a loads axis
-    (the model's `curve_solver`)."""
-    return _flagged_outside_domain(scene, solver, "curve_solver")
+    (a swept model's sweep, else the points mapped)."""
+    return _flagged_outside_domain(scene, solver, model_curve_solver)
 
 
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:

@@ -2,7 +2,15 @@
 largest-spot models, the seed model (`Xia2024`) and its comparators, and the registry from names to
 objects. A new model is one file here plus one line in `_registry.py` (or `register_model`)."""
 
-from ._base import AbstractContactModel, AbstractJoint, AbstractLargestSpotModel, JointResponse, PointResult
+from ._base import (
+    AbstractContactModel,
+    AbstractJoint,
+    AbstractLargestSpotModel,
+    AbstractSweptModel,
+    JointResponse,
+    PointResult,
+    curve_solver,
+)
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
 from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
@@ -14,6 +22,8 @@ __all__ = [
     "AbstractContactModel",
     "AbstractJoint",
     "AbstractLargestSpotModel",
+    "AbstractSweptModel",
+    "curve_solver",
     "AbstractLoadPieces",
     "build_model",
     "DISTRIBUTIONS",

@@ -88,15 +88,6 @@ class AbstractContactModel(eqx.Module):
         put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
         """
 
-    def curve_solver(
-        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
-    ) -> Callable[[Float[Array, " loads"]], PointResult]:
-        """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis), as `jc.solve` calls
-        the model. The default maps `point_solver` over the loads (`jax.vmap`); a model whose loads
-        are cheaper solved in sequence, each from the last one's solution, overrides it.
-        """
-        return jax.vmap(self.point_solver(s, tolerance=tolerance, max_steps=max_steps))
-
     @abc.abstractmethod
     def kink_log_loads(self, s: DimensionlessScene) -> Float[Array, " kinks"]:
         """`ln F*` where the slope of K(F) jumps (an empty array for a smooth model); integrators
@@ -117,6 +108,33 @@ def _named_choices(module: eqx.Module) -> dict[str, str]:
             choices[field.name] = value.name
             choices.update(_named_choices(value))
     return choices
+
+
+class AbstractSweptModel(AbstractContactModel):
+    """A model whose loads are cheaper solved together, in one sweep, each from the last one's
+    solution (the boundary-element contact): it writes `sweep_solver`; `point_solver` is a sweep
+    of one load."""
+
+    @abc.abstractmethod
+    def sweep_solver(
+        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
+    ) -> Callable[[Float[Array, " loads"]], PointResult]:
+        """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis)."""
+
+    @typing.final
+    def point_solver(self, s, *, tolerance, max_steps):
+        sweep = self.sweep_solver(s, tolerance=tolerance, max_steps=max_steps)
+        return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
+
+
+def curve_solver(
+    model: AbstractContactModel, s: DimensionlessScene, *, tolerance: float, max_steps: int
+) -> Callable[[Float[Array, " loads"]], PointResult]:
+    """`F*` (1-D) ↦ the `PointResult`s of all loads: a swept model's sweep, else `point_solver`
+    mapped over the loads (`jax.vmap`)."""
+    if isinstance(model, AbstractSweptModel):
+        return model.sweep_solver(s, tolerance=tolerance, max_steps=max_steps)
+    return jax.vmap(model.point_solver(s, tolerance=tolerance, max_steps=max_steps))
 
 
 class AbstractJoint(eqx.Module):

@@ -30,13 +30,13 @@ def bem_fit_rows(
     loads: int = 8,
     fractions=(0.005, 0.15),
     noise: float = 0.03,
-    start=(1.5, None),
+    start=(1.4, 3.0),
     progress=None,
 ) -> list[dict]:
     """For each D and seed: an elastic BEM curve of that realisation (grid 4·`divisions`, l_min = L/divisions,
     `loads` loads where Persson's contact area spans `fractions`, log-normal noise of sd `noise`),
-    fitted for D and G by each model of `FIT_MODELS` (LM from D = `start[0]` and G = `start[1]`,
-    the scene's G if None; the seed model with every spot elastic, `elastic`).
+    fitted for D and G by each model of `FIT_MODELS` (LM, Latin-hypercube starts beside D = `start[0]`,
+    G = `start[1]` × the true G; the seed model with every spot elastic, `elastic`).
 
     **Returns:** one dict per (D, seed, model): `D_true`, `seed`, `model`, `D`, `D_low`, `D_high`
     (the 95 % interval), `covered`, `G_ratio` (fitted over true G), `success`, `seconds`,
@@ -76,10 +76,10 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, progr
                 begin = eqx.tree_at(
                     lambda s: (s.surface.D, s.surface.G),
                     model_scene,
-                    (np.asarray(start[0], float), np.asarray(start[1] or G_true, float)),
+                    (np.asarray(start[0], float), np.asarray(start[1] * G_true, float)),
                 )
                 t = time.perf_counter()
-                starts = 1 if options is None else 8  # the BEM's fit is costly; its loss has no kinks
+                starts = 4 if options is None else 8  # the BEM's fits are the costly ones
                 result = fitting.fit(F, K, begin, params=("D", "G"), method="lm", n_starts=starts)
                 low, high = result.ci95["D"]
                 rows.append(
