@@ -40,6 +40,10 @@ def _masked_sum(mask, x):
     return jnp.sum(jnp.where(mask, x, 0.0))
 
 
+def _masked_mean(mask, x):
+    return _masked_sum(mask, x) / jnp.maximum(jnp.sum(mask), 1)
+
+
 def _with_total(pressure, total, hardness):
     """Clip to [0, H] and shift the points strictly inside so that the sum is `total`."""
     for _ in range(_LOAD_PASSES):
@@ -56,7 +60,7 @@ def gaps(compliance: Compliance, heights, pressure, hardness):
     gap's mean over that set zero (the load-control multiplier)."""
     raw = compliance(pressure) - heights
     free = (pressure > 0) & (pressure < hardness)
-    offset = _masked_sum(free, raw) / jnp.maximum(jnp.sum(free), 1)
+    offset = _masked_mean(free, raw)
     return raw - offset, free, offset
 
 
@@ -89,7 +93,7 @@ def contact_cg(
         beta = jnp.where(state.restart | (state.previous_norm <= 0), 0.0, norm / state.previous_norm)
         t = jnp.where(free, gap + beta * t, 0.0)
         r = compliance(t)
-        r = r - _masked_sum(free, r) / jnp.maximum(jnp.sum(free), 1)
+        r = r - _masked_mean(free, r)
         curvature = _masked_sum(free, r * t)
         tau = jnp.where(curvature > 0, _masked_sum(free, gap * t) / jnp.where(curvature > 0, curvature, 1.0), 0.0)
         moved = jnp.where(free, p - tau * t, p)

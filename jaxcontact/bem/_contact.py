@@ -19,6 +19,7 @@ from ..numerics._validate import InputError, assigned, check_choice, check_range
 from ..quantities import Status
 from ._ccg import contact_cg
 from ._operator import SUBSTRATES, Compliance
+from ._solver import secant_stiffness
 from ._tangent import frozen_solution
 
 # Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
@@ -218,22 +219,28 @@ def sweep(problem: GridProblem, totals, tolerance: float, max_iterations: int, w
     return {k: v[inverse] for k, v in outputs.items()}
 
 
+def sweep_sides(problem: GridProblem, loads, sides, tolerance: float, max_iterations: int, with_pressure=False):
+    """`sweep` at each of `loads` (SI, or F* in a dimensionless problem) times `e^side` for each of
+    `sides`, all in one sweep: the outputs with leading axes (sides, loads)."""
+    totals = jnp.concatenate([loads * math.exp(side) for side in sides]) / problem.load_unit
+    outputs = sweep(problem, totals, tolerance, max_iterations, with_pressure)
+    return {k: v.reshape(len(sides), -1, *v.shape[1:]) for k, v in outputs.items()}
+
+
 @eqx.filter_jit
 def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure, step):
     problem = GridProblem.build(heights, size, modulus, hardness, substrate)
     solved, valid = stand_in_loads(loads, 1e-4 * modulus * size * size)
     sides = (-step, 0.0, step) if step > 0 else (0.0,)
     # Each load and, for the secant, its neighbours e^(±step) F.
-    totals = jnp.concatenate([solved * math.exp(side) for side in sides]) / problem.load_unit
-    outputs = sweep(problem, totals, tolerance, max_iterations, with_pressure)
-    side = {k: v.reshape(len(sides), -1, *v.shape[1:]) for k, v in outputs.items()}
+    side = sweep_sides(problem, solved, sides, tolerance, max_iterations, with_pressure)
     out = {k: v[len(sides) // 2] for k, v in side.items()}
     status = jnp.where(valid, out["status"], Status.INVALID_LOAD)
     secant = None
     if step > 0:
         status = jnp.where(valid & (status == Status.OK), jnp.max(side["status"], axis=0), status)
         rise = jnp.where(status == Status.OK, side["offset"][2] - side["offset"][0], 1.0)
-        secant = 2 * loads * math.sinh(step) / (rise * problem.scale)
+        secant = secant_stiffness(loads, step, rise * problem.scale)
     ok = status == Status.OK
     return ContactSolution(
         loads=loads,

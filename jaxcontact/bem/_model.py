@@ -14,8 +14,9 @@ import jax.numpy as jnp
 from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status
-from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep
-from ._surfaces import PIXELS_PER_L_MIN
+from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep_sides
+from ._solver import secant_stiffness
+from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights
 
 
@@ -56,12 +57,8 @@ class BEM(AbstractSweptModel):
     max_iterations: int = eqx.field(static=True, default=2000)
 
     def __check_init__(self):
-        grid = self.grid
-        if isinstance(grid, bool) or not isinstance(grid, int) or grid < 8 or grid & (grid - 1):
-            raise InputError(f"grid = {grid!r} must be a power of two >= 8")
-        count = self.realisations
-        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 64:
-            raise InputError(f"realisations = {count!r} must be an integer in [1, 64]")
+        check_grid_points(self.grid)
+        check_realisations(self.realisations)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise InputError(f"seed = {self.seed!r} must be an integer >= 0")
         check_range("relative_step", self.relative_step, 0.0, 0.5, low_open=False)
@@ -85,13 +82,11 @@ class BEM(AbstractSweptModel):
 
         def one_realisation(problem, loads):
             # All loads (and both sides of each secant) in one increasing sweep, warm-started.
-            totals = jnp.concatenate([loads * math.exp(side) for side in sides]) / problem.load_unit
-            out = sweep(problem, totals, tolerance, self.max_iterations)
-            out = {k: v.reshape(len(sides), -1) for k, v in out.items()}
+            out = sweep_sides(problem, loads, sides, tolerance, self.max_iterations)
             status = jnp.max(out["status"], axis=0)
             if step > 0:
                 rise = (out["offset"][1] - out["offset"][0]) * problem.scale
-                stiffness = 2 * loads * math.sinh(step) / jnp.where(status == Status.OK, rise, 1.0)
+                stiffness = secant_stiffness(loads, step, jnp.where(status == Status.OK, rise, 1.0))
             else:
                 stiffness = out["stiffness"][0] * problem.stiffness_unit
             return stiffness, jnp.mean(out["contact_fraction"], axis=0), status

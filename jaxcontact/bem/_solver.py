@@ -68,6 +68,12 @@ class BEMResult:
     modulus: float
 
 
+def secant_stiffness(load, step: float, rise):
+    """`2F sinh(ε) / (δ(F e^ε) − δ(F e^−ε))`: the stiffness from the rise `rise` of the offset between
+    the loads `F e^±ε` (numpy or JAX)."""
+    return 2.0 * load * math.sinh(step) / rise
+
+
 def _substrate(topography, modulus: float, substrate: str | None):
     cm = optional_import("ContactMechanics", "the boundary-element reference")
 
@@ -115,7 +121,7 @@ def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
         iterations += int(side.nit)
         offsets.append(float(side.offset))
         status = status if side.success else Status.NOT_CONVERGED
-    stiffness = 2.0 * load * math.sinh(settings.relative_step) / (offsets[1] - offsets[0])
+    stiffness = secant_stiffness(load, settings.relative_step, offsets[1] - offsets[0])
     if status != Status.OK or not stiffness > 0:
         stiffness, status = math.nan, Status.NOT_CONVERGED
     return dict(

@@ -9,10 +9,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..numerics._validate import InputError, assigned, check_choice
+from ..numerics._validate import check_choice
 from ._cache import ResultCache
 from ._solver import BEMResult, BEMSettings, bem_stiffness
-from ._surfaces import check_grid, coarsened, synthesised_surface
+from ._surfaces import check_grid, check_grid_points, check_realisations, coarsened, synthesised_surface
 
 # Surfaces are synthesised on at least this grid and coarsened to the solve's grid by Fourier
 # truncation, so that a realisation (a seed) is the same surface whatever grid solves it.
@@ -69,17 +69,10 @@ class ReferenceCurves:
         return self.convergence.stiffness / self.results[0].stiffness - 1.0
 
 
-def _power_of_two(grid: int) -> bool:
-    return grid >= 8 and grid & (grid - 1) == 0
-
-
 def realisation(D, G, l_min, size, grid, seed):
     """Realisation `seed` of the surface, synthesised on `max(grid, SYNTHESIS_GRID)` points per side
     and coarsened to `grid` (the same surface on every grid that resolves `l_min`)."""
-    if not _power_of_two(grid):
-        raise InputError(
-            f"{assigned('grid', str(grid))} must be a power of two >= 8 (surfaces are coarsened by halving)"
-        )
+    check_grid_points(grid)
     check_grid(l_min, size, grid)
     fine = max(grid, SYNTHESIS_GRID)
     surface = synthesised_surface(D, G, l_min, size, fine, seed)
@@ -137,8 +130,7 @@ def reference_curves(
     and agree to their tolerances.
     """
     check_choice("reference", reference, REFERENCES)
-    if isinstance(realisations, bool) or not isinstance(realisations, int) or not 1 <= realisations <= 64:
-        raise InputError(f"{assigned('realisations', repr(realisations))} must be an integer in [1, 64]")
+    check_realisations(realisations)
     D, G, l_min = (float(x) for x in (scene.surface.D, scene.surface.G, scene.surface.l_min))
     size, modulus = math.sqrt(float(scene.area)), float(scene.material.E)
     loads = np.atleast_1d(np.asarray(loads, dtype=float))

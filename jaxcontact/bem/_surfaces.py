@@ -11,6 +11,20 @@ from ..numerics._validate import InputError, assigned, check_range, optional_imp
 PIXELS_PER_L_MIN = 4
 
 
+def check_grid_points(grid) -> None:
+    """Raise `InputError` unless `grid` is a power of two ≥ 8 (surfaces are coarsened by halving)."""
+    if isinstance(grid, bool) or not isinstance(grid, int) or grid < 8 or grid & (grid - 1):
+        raise InputError(
+            f"{assigned('grid', repr(grid))} must be a power of two >= 8 (surfaces are coarsened by halving)"
+        )
+
+
+def check_realisations(count) -> None:
+    """Raise `InputError` unless `count` is an integer in [1, 64]."""
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 64:
+        raise InputError(f"{assigned('realisations', repr(count))} must be an integer in [1, 64]")
+
+
 def check_grid(l_min: float, size: float, grid: int) -> None:
     """Raise `InputError` unless `l_min` spans at least `PIXELS_PER_L_MIN` grid spacings."""
     check_range("grid", grid, 8, 8192, low_open=False, high_open=False)
