@@ -79,16 +79,24 @@ def describe(c) -> dict:
         "correlation_D_lnG": c.correlation,
         "groups": c.groups,
         "reliability_cutoff_m": c.reliability_cutoff,
+        "band_ends": {"long": c.ends[0], "short": c.ends[1]},
+        "rolloff_sigma_m": c.rolloff,
+        "noise_floor": c.floor,
         "diagnostics": list(c.diagnostics),
     }
 
 
 def summary_text(c, name: str) -> str:
+    source = (
+        f"the whole {'map' if c.kind == 'areal' else 'profile'}'s spectrum"
+        if c.method == "psd"
+        else f"{c.groups} independent {'tiles' if c.kind == 'areal' else 'segments'}"
+    )
     lines = [
-        f"{name}: {c.kind} topography, {c.method} over wavelengths {c.band[0]:.4g}-{c.band[1]:.4g} m "
-        f"({c.groups} independent {'tiles' if c.kind == 'areal' else 'segments'})",
+        f"{name}: {c.kind} topography, {c.method} over wavelengths {c.band[0]:.4g}-{c.band[1]:.4g} m ({source})",
+        *(f"  band's {end} end: {why}" for end, why in zip(("long", "short"), c.ends) if why),
         f"  D     = {c.D:.4f} ± {c.stderr['D']:.4f}   95 % [{c.ci95['D'][0]:.4f}, {c.ci95['D'][1]:.4f}]",
-        f"  G     = {c.G:.4g} m (W-M convention, the model's) ×/÷ {math.exp(c.stderr['G'] / c.G):.3g}   "
+        f"  G     = {c.G:.4g} m (W-M convention, the model's) ×/÷ {math.exp(min(c.stderr['G'] / c.G, 700)):.3g}   "
         f"95 % [{c.ci95['G'][0]:.4g}, {c.ci95['G'][1]:.4g}] m",
         f"  G_sf  = {c.G_structure_function:.4g} m (structure-function convention, docs/model.md §8)",
         f"  l_min = {c.l_min:.4g} m (the band's short end; K depends on it)",
@@ -96,13 +104,15 @@ def summary_text(c, name: str) -> str:
     ]
     if c.reliability_cutoff:
         lines.append(f"  tip reliability cutoff: {c.reliability_cutoff:.4g} m")
+    if c.rolloff:
+        lines.append(f"  transfer function: a roll-off exp(-(qσ)²), σ = {c.rolloff:.3g} m, corrected in the band")
+    if c.floor:
+        lines.append(f"  noise floor: {c.floor:.3g} (spectrum units), subtracted")
     lines += [f"  diagnostic: {d}" for d in c.diagnostics]
     return "\n".join(lines)
 
 
-def _spectrum_figure(c, ylabel, xlabel, path, wavevector: bool):
-    import numpy as np
-
+def _spectrum_figure(c, ylabel, xlabel, path):
     from ._plots import save_figure, subplots
 
     fig, ax = subplots()
@@ -110,30 +120,53 @@ def _spectrum_figure(c, ylabel, xlabel, path, wavevector: bool):
     keep = (x > 0) & (y > 0)
     ax.loglog(x[keep], y[keep], ".", ms=2, color="0.5", label="measured (mean of groups)")
     ax.loglog(*c.fit, "-", color="C3", label=f"fit: D = {c.D:.3f}")
-    ends = sorted(2 * np.pi / np.array(c.band)) if wavevector else list(c.band)
-    ax.axvspan(*ends, color="C0", alpha=0.12, label="fit band")
+    ax.axvspan(*c.band, color="C0", alpha=0.12, label="fit band")
     if c.reliability_cutoff:
-        cut = 2 * np.pi / c.reliability_cutoff if wavevector else c.reliability_cutoff
-        ax.axvline(cut, color="k", ls="--", lw=1, label="tip reliability cutoff")
+        ax.axvline(c.reliability_cutoff, color="k", ls="--", lw=1, label="tip reliability cutoff")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.legend(fontsize=8)
     return save_figure(fig, path)
 
 
+def _psd_label(kind: str) -> str:
+    return "C2D (m⁴)" if kind == "areal" else "C1D (m³)"
+
+
 def cmd_surface(args) -> int:
     from ..numerics import InputError
-    from ..topography import characterise
+    from ..topography import NoBandError, characterise, compared
+    from ._surface_plots import psd_figure
 
-    topography, c = characterise_file(args)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    try:
+        topography, c = characterise_file(args)
+    except NoBandError as exc:
+        kind = exc.spectrum.kind
+        spectrum = (exc.spectrum.q, exc.spectrum.C)
+        path = psd_figure(
+            spectrum, exc.local_slope, out / "psd.png", ylabel=_psd_label(kind), suggestion=exc.suggestion
+        )
+        raise InputError(f"{exc}; wrote {path}") from None
     name = pathlib.Path(args.file).name
-    files = [_spectrum_figure(c, "C1D (m³)", "q (rad/m)", out / "psd.png", True)]
+    files = [
+        psd_figure(
+            c.spectrum,
+            c.local_slope,
+            out / "psd.png",
+            ylabel=_psd_label(c.kind),
+            fit=c.fit,
+            D=c.D,
+            band=c.band,
+            cutoff=c.reliability_cutoff,
+        )
+    ]
     notes = []
     try:
         sf = characterise(topography, method="structure-function", groups=args.groups)
-        files.append(_spectrum_figure(sf, "S(τ) (m²)", "τ (m)", out / "structure_function.png", False))
+        files.append(_spectrum_figure(sf, "S(τ) (m²)", "τ (m)", out / "structure_function.png"))
+        c = compared(c, sf)
     except InputError as exc:
         sf = None
         notes.append(f"structure function: {exc}")

@@ -3,9 +3,12 @@
 Reading and synthesis use SurfaceTopography (the `surface` extra: `pip install jaxcontact[surface]`).
 """
 
-from ._characterise import METHODS, Characterisation, characterise
+from ._characterise import METHODS, characterise
+from ._checks import compared
 from ._conventions import CONVENTIONS, areal_prefactor, convert_G, profile_prefactor, structure_function_constant
+from ._psd import NoBandError
 from ._read import read
+from ._result import Characterisation
 from ._synthesis import areal_map, random_profile, wm_profile
 from ._uncertainty import StiffnessBand, stiffness_band
 
@@ -13,6 +16,8 @@ __all__ = [
     "CONVENTIONS",
     "METHODS",
     "Characterisation",
+    "NoBandError",
+    "compared",
     "StiffnessBand",
     "areal_map",
     "areal_prefactor",

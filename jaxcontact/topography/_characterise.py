@@ -6,12 +6,14 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import special, stats
+from scipy import stats
 
 from ..numerics._validate import InputError, assigned, check_choice, spelled
-from ..quantities import Surface
 from . import _spectra as spectra
-from ._conventions import convert_G, log_G_from_profile_prefactor, structure_function_constant
+from ._checks import implausible, widened
+from ._conventions import convert_G, structure_function_constant
+from ._psd import characterise_spectrum
+from ._result import Characterisation
 
 METHODS = ("psd", "structure-function")
 # The shortest wavelength fitted, in grid spacings: near the grid's Nyquist wavelength the line
@@ -25,81 +27,27 @@ LONGEST_FRACTION = {"psd": 0.25, "structure-function": 0.02}
 # a sizeable fraction of it, by 10-30 % at a sixteenth for D = 1.3: its band stops far shorter.)
 
 
-@dataclasses.dataclass(frozen=True)
-class Characterisation:
-    """What `characterise` found. Lengths in m; G in the W-M convention unless named otherwise.
-
-    **Fields:** `D`; `G` (W-M, the model's); `G_structure_function` (the same surface's G in the
-    structure-function convention of docs/model.md §8); `l_min` (the band's short end); `band` (short,
-    long wavelength of the fit, m); `method`; `stderr` and `ci95` (dicts for D and G, Student-t
-    over the groups; G's interval is exp(ln G ± t·se)); `covariance` of (D, ln G) and their
-    `correlation`; `groups` (independent groups of line scans or segments) and `estimates`
-    (their (D, ln G)); `spectrum` (x, y: `q` and mean `C1D`, or `τ` and `S(τ)`); `fit` (x, y of
-    the fitted power law over the band); `diagnostics` (why D may not mean much; empty if none);
-    `kind` ("profile" or "areal"); `reliability_cutoff` (m, from the tip radius, or None).
-    """
-
-    D: float
-    G: float
-    G_structure_function: float
-    l_min: float
-    band: tuple[float, float]
-    method: str
-    stderr: dict
-    ci95: dict
-    covariance: np.ndarray
-    correlation: float
-    groups: int
-    estimates: np.ndarray
-    spectrum: tuple[np.ndarray, np.ndarray]
-    fit: tuple[np.ndarray, np.ndarray]
-    diagnostics: tuple[str, ...]
-    kind: str
-    reliability_cutoff: float | None
-
-    @property
-    def surface(self):
-        """The `jaxcontact.Surface` (D, G, l_min) for a scene."""
-        return Surface(D=self.D, G=self.G, l_min=self.l_min)
-
-    def covers(self, D: float, G: float, level: float = 0.95) -> bool:
-        """Whether (D, G) lies inside the joint `level` confidence region (Hotelling's T² over the groups)."""
-        n = self.groups
-        difference = np.array([D - self.D, math.log(G) - math.log(self.G)])
-        t2 = difference @ np.linalg.solve(self.covariance, difference)
-        return bool(t2 <= 2 * (n - 1) / (n - 2) * stats.f.ppf(level, 2, n - 2))
-
-    def scene_fragment(self) -> str:
-        """The `[surface]` table of a scene file, with where each value came from."""
-        lo, hi = self.ci95["D"]
-        glo, ghi = self.ci95["G"]
-        return (
-            f"[surface]\n# from the {self.method} of a {self.kind} topography, fitted over wavelengths "
-            f"{self.band[0]:.4g}-{self.band[1]:.4g} m\n"
-            f"D = {self.D:.6g}  # 95 % interval [{lo:.6g}, {hi:.6g}]\n"
-            f"G = {self.G:.6g}  # m, W-M convention (structure-function convention: "
-            f"{self.G_structure_function:.6g} m); 95 % interval [{glo:.4g}, {ghi:.4g}]\n"
-            f"l_min = {self.l_min:.6g}  # m, the short end of the fit band: K depends on it "
-            "(K ∝ a_min^((1-D)/2))\n"
-        )
-
-
 def characterise(topography, *, band=None, method: str = "psd", groups: int | None = None, D=None):
-    """Fit the W-M power law to a topography's line-scan spectrum (or structure function).
+    """Fit the W-M power law to a topography's spectrum (or structure function).
 
     **Arguments:**
 
     - `topography`: a SurfaceTopography line scan or map in metres (from `read` or `synthesis`).
-    - `band`: (shortest, longest) wavelength to fit, m. Default: from `max(10 grid spacings, the tip's
-      reliability cutoff)` to a quarter of a group's scan length (PSD) or a fiftieth (structure function).
-    - `method`: "psd" (power law `C1D = K1 q^-(5-2D)`) or "structure-function" (`S ∝ τ^(4-2D)`).
-    - `groups`: independent groups whose scatter gives the uncertainty: tiles of a map (default
-      16, as 4 × 4, or 9 below 1024 points a side) or segments of a profile (default 8). The
-      band's long end is set by their size.
+    - `band`: (shortest, longest) wavelength to fit, m. Default (PSD): the widest band where the
+      spectrum is a power law, found from the data (docs/topography.md, "The band"), within the
+      tip's reliability cutoff; (structure function) from `max(10 grid spacings, the cutoff)` to a
+      fiftieth of a group's scan length.
+    - `method`: "psd" (the whole measurement's spectrum: the radially averaged `C2D = C0 q^-(6-2D)` of
+      a map, `C1D = K1 q^-(5-2D)` of a profile; uncertainty from the periodogram's own scatter per
+      bin and the band's position) or "structure-function" (`S ∝ τ^(4-2D)` of line scans,
+      uncertainty from the scatter between groups).
+    - `groups`: (structure function) independent groups whose scatter gives the uncertainty: blocks
+      of line scans of a map (default 16) or segments of a profile (default 8).
     - `D`: hold D at this value and fit the amplitude alone.
 
     **Returns:** a `Characterisation`. **Raises:** `ValueError` naming the bad argument, or
-    saying why no power law can be fitted (band outside the data, profile too short).
+    saying why no power law can be fitted (band outside the data, profile too short); where no
+    band is found, a `NoBandError` that carries the spectrum and a suggested band.
     """
     check_choice("method", method, METHODS)
     rows, dx, length, periodic, kind = spectra.rows_of(topography)
@@ -108,6 +56,12 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         raise InputError(f"the {what} is flat: every height is the same, so it has no roughness to characterise")
     if groups is not None and (isinstance(groups, bool) or not isinstance(groups, int) or groups < 3):
         raise InputError(f"{assigned('groups', repr(groups))} must be an integer >= 3 (independent groups)")
+    if method == "psd":
+        band = None if band is None else _checked_band(band, dx, length, kind, rows.shape[1])
+        heights = rows[0] if kind == "profile" else rows.T
+        cutoff = topography.short_reliability_cutoff()
+        c = characterise_spectrum(topography, heights, dx, periodic, kind, band, D, cutoff)
+        return dataclasses.replace(c, diagnostics=c.diagnostics + implausible(float(np.std(rows)), c))
     blocks = spectra.groups_of(rows, groups, kind, method)
     periodic = periodic and len(blocks) == 1
     if len(blocks) < 3:
@@ -127,50 +81,17 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
                 f"{spelled('fewer groups', 'a smaller --groups')} give longer segments)"
             )
         band = (shortest, longest)
-    band = tuple(float(b) for b in band)
-    if len(band) != 2 or not (0 < band[0] < band[1]):
-        raise InputError(f"{_band(band)} must be (shortest, longest) wavelengths with 0 < shortest < longest")
-    if band[0] < 2 * dx or band[1] > segment:
-        raise InputError(
-            f"{_band(band)} is outside the data: wavelengths must lie in "
-            f"[{2 * dx:.3g}, {segment:.3g}] m (two grid spacings to one {'segment' if kind == 'profile' else 'scan'})"
-        )
-    if band[1] / band[0] < 4:
-        raise InputError(
-            f"{_band(band)} spans less than a factor 4 in wavelength: the "
-            f"{kind} is too short for any power-law band ({rows.shape[1]} points over {length:.3g} m)"
-        )
-    if method == "psd":
-        x, per_group, weights = spectra.binned_psd(blocks, dx, periodic, band)
-        exponent = lambda slope: (5 + slope) / 2  # noqa: E731  slope = -(5 - 2D)
-        log_G = lambda D_, intercept: log_G_from_profile_prefactor(D_, intercept)  # noqa: E731
-        slope_of = lambda D_: -(5 - 2 * D_)  # noqa: E731
-    else:
-        x, per_group, weights = spectra.binned_structure_function(blocks, dx, band)
-        exponent = lambda slope: (4 - slope) / 2  # noqa: E731  slope = 4 - 2D
-        log_G = lambda D_, intercept: (intercept - math.log(structure_function_constant(D_))) / (2 * (D_ - 1))  # noqa: E731
-        slope_of = lambda D_: 4 - 2 * D_  # noqa: E731
+    band = _checked_band(band, dx, segment, kind, rows.shape[1])
+    x, per_group, weights = spectra.binned_structure_function(blocks, dx, band)
+    exponent = lambda slope: (4 - slope) / 2  # noqa: E731  slope = 4 - 2D
+    log_G = lambda D_, intercept: (intercept - math.log(structure_function_constant(D_))) / (2 * (D_ - 1))  # noqa: E731
+    slope_of = lambda D_: 4 - 2 * D_  # noqa: E731
     if x.size < 4:
         raise InputError(f"{_band(band)} holds {x.size} spectral bins: too few to fit")
     log_x, log_y = np.log(x), np.log(per_group)
     mean_y = np.log(per_group.mean(axis=0))
 
     def estimate(curve):
-        if method == "psd" and kind == "areal":
-            return _estimate_truncated(curve)
-        return _estimate_plain(curve)
-
-    def _estimate_truncated(curve):
-        # A line scan of an areal map sees C2D only up to the grid's cutoff q_c = π/Δx: its PSD is
-        # the power law times T(q) = I_{1-(q/q_c)²}(1/2, 5/2 - D) (the share of the qy-integral of
-        # docs/model.md §8 inside the cutoff), which steepens it near q_c. Fitted by fixed point in D.
-        D_k = _estimate_plain(curve)[0]
-        for _ in range(4):
-            share = special.betainc(0.5, 2.5 - min(max(D_k, 1.01), 1.99), 1.0 - (x * dx / math.pi) ** 2)
-            D_k, intercept = _estimate_plain(curve - np.log(share))
-        return D_k, intercept
-
-    def _estimate_plain(curve):
         if D is not None:
             return float(D), float(np.average(curve - slope_of(float(D)) * log_x, weights=weights))
         # Weighted by the periodogram values in each bin: a bin's mean is as good as its count.
@@ -234,7 +155,26 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         diagnostics=diagnostics,
         kind=kind,
         reliability_cutoff=cutoff,
+        dof=n - 1,
     )
+
+
+def _checked_band(band, dx: float, longest: float, kind: str, points: int) -> tuple[float, float]:
+    """`band` as two floats, after checking it is inside the data (`2 dx` to `longest`) and spans a factor 4."""
+    band = tuple(float(b) for b in band)
+    if len(band) != 2 or not (0 < band[0] < band[1]):
+        raise InputError(f"{_band(band)} must be (shortest, longest) wavelengths with 0 < shortest < longest")
+    if band[0] < 2 * dx or band[1] > longest:
+        raise InputError(
+            f"{_band(band)} is outside the data: wavelengths must lie in "
+            f"[{2 * dx:.3g}, {longest:.3g}] m (two grid spacings to one {'segment' if kind == 'profile' else 'scan'})"
+        )
+    if band[1] / band[0] < 4:
+        raise InputError(
+            f"{_band(band)} spans less than a factor 4 in wavelength: the "
+            f"{kind} is too short for any power-law band ({points} points)"
+        )
+    return band
 
 
 def _band(band) -> str:
@@ -251,8 +191,7 @@ def _widened_for_filling(covariance, filled: float, held: bool):
     bias = FILL_BIAS_PER_FRACTION * filled
     if held:
         return covariance, f"{100 * filled:.2g} % of the points were filled by interpolation: G may be low"
-    direction = np.array([1.0, covariance[0, 1] / covariance[0, 0]])
-    return covariance + bias**2 * np.outer(direction, direction), (
+    return widened(covariance, bias), (
         f"{100 * filled:.2g} % of the points were filled by interpolation, which can bias D low by up to "
         f"{bias:.2g} (and G with it): the intervals include that"
     )

@@ -30,8 +30,8 @@ def stiffness_band(characterisation, scene, loads) -> StiffnessBand:
     """K(F) on `scene` with its surface replaced by the characterised one, and a 95 % band.
 
     The band is the delta method: `var ln K = ∇ᵀ Σ ∇`, with `Σ` the covariance of (D, ln G) from
-    the scatter between groups and `∇` the gradient of ln K with respect to (D, ln G) by forward-mode
-    differentiation through the solve; `ln K ± t·sd` with the groups' Student-t quantile.
+    the characterisation and `∇` the gradient of ln K with respect to (D, ln G) by forward-mode
+    differentiation through the solve; `ln K ± t·sd` with the Student-t quantile of its `dof`.
 
     **Arguments:** `characterisation` (from `characterise`), `scene` (material, area and model),
     `loads` (N). **Returns:** a `StiffnessBand`.
@@ -51,7 +51,7 @@ def stiffness_band(characterisation, scene, loads) -> StiffnessBand:
     theta = jnp.asarray([characterisation.D, np.log(characterisation.G)], dtype)
     gradient, solution = jax.jacfwd(log_stiffness, has_aux=True)(theta)
     variance = jnp.einsum("ni,ij,nj->n", gradient, jnp.asarray(characterisation.covariance, dtype), gradient)
-    spread = stats.t.ppf(0.975, characterisation.groups - 1) * np.sqrt(np.maximum(np.asarray(variance), 0.0))
+    spread = stats.t.ppf(0.975, characterisation.dof) * np.sqrt(np.maximum(np.asarray(variance), 0.0))
     ok = np.asarray(solution.ok)
     K = np.where(ok, np.asarray(solution.stiffness), np.nan)
     spread = np.where(K > 0, spread, 0.0)

@@ -1,0 +1,144 @@
+"""D, G and l_min from the spectrum of the whole measurement: the areal `C2D` of a map, `C1D` of a
+profile, over a band found from the data (`_band`) or given (docs/topography.md)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import special, stats
+
+from ..numerics._validate import InputError, spelled
+from ._band import MIN_MODES, MIN_RATIO, fit_band, local_slopes, select_band
+from ._conventions import convert_G, log_G_from_profile_prefactor
+from ._result import Characterisation
+from ._whole import whole_spectrum
+
+
+class NoBandError(InputError):
+    """No power-law band was found: the message says why and suggests a band; `characterisation`-less,
+    it carries the `spectrum` and its `local_slope` (q, local D) so that a caller can plot them."""
+
+    def __init__(self, message: str, spectrum, local_slope, suggestion):
+        super().__init__(message)
+        self.spectrum, self.local_slope, self.suggestion = spectrum, local_slope, suggestion
+
+
+def _log_G(kind: str, D: float, intercept: float) -> float:
+    """ln G (W-M) from the power law's ln prefactor: `C1D = K1 q^-(5-2D)` or `C2D = C0 q^-(6-2D)`."""
+    if kind == "areal":
+        # C0 = K1 · 2√π Γ(3-D) / Γ(5/2-D) (docs/model.md §8).
+        intercept -= math.log(2 * math.sqrt(math.pi)) + special.gammaln(3 - D) - special.gammaln(2.5 - D)
+    return log_G_from_profile_prefactor(D, intercept)
+
+
+def _D_logG(spectrum, slope: float, intercept: float):
+    D = float(spectrum.D_of(slope))
+    return D, (_log_G(spectrum.kind, D, intercept) if 1 < D < 2 else math.nan)
+
+
+def _covariance(spectrum, law) -> np.ndarray:
+    """The covariance of (D, ln G) from that of (slope, intercept), by the delta method."""
+    step = 1e-6
+    base = np.array(_D_logG(spectrum, law.slope, law.intercept))
+    columns = []
+    for d_slope, d_intercept in ((step, 0.0), (0.0, step)):
+        moved = np.array(_D_logG(spectrum, law.slope + d_slope, law.intercept + d_intercept))
+        columns.append((moved - base) / step)
+    jacobian = np.stack(columns, axis=1)
+    return jacobian @ law.covariance @ jacobian.T
+
+
+def _q_and_D(slopes):
+    q, _, D = slopes
+    return q, D
+
+
+def _suggestion(spectrum, suggested) -> str:
+    if suggested is None:
+        return "no stretch of the spectrum has the slope of a self-affine surface (1 < D < 2)"
+    short, long = suggested
+    return "the closest to a power law is " + spelled(
+        f"band=({short:.3g}, {long:.3g})", f"--band {short:.3g} {long:.3g}"
+    )
+
+
+def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D, cutoff) -> Characterisation:
+    """The PSD characterisation of `characterise` (its arguments, checked there)."""
+    spectrum = whole_spectrum(heights, spacing, periodic)
+    q_max = None if not cutoff else 2 * math.pi / cutoff
+    usable = spectrum.q[spectrum.modes >= MIN_MODES]
+    if usable.size < 5 or usable[-1] / usable[0] < MIN_RATIO:
+        raise InputError(
+            f"the {kind} is too small for any power-law band: {heights.shape[-1]} points a side leave too few "
+            f"Fourier modes (at least {MIN_MODES} per bin over a factor {MIN_RATIO:g} in wavelength are needed)"
+        )
+    if band is None:
+        law = select_band(spectrum, q_max, None if D is None else spectrum.slope_of(float(D)))
+        if not hasattr(law, "slope"):
+            slopes = _q_and_D(local_slopes(spectrum))
+            raise NoBandError(
+                f"no power-law band: no window of the {kind} spectrum spanning a factor 4 is a power law within "
+                f"its scatter with 1 < D < 2; {_suggestion(spectrum, law)} (psd.png shows the local slope)",
+                spectrum,
+                slopes,
+                law,
+            )
+    else:
+        held = None if D is None else spectrum.slope_of(float(D))
+        law = fit_band(spectrum, (2 * math.pi / band[1], 2 * math.pi / band[0]), held)
+        if law is None:
+            raise InputError(
+                f"band = ({band[0]:.3g}, {band[1]:.3g}) m holds fewer than 4 spectral bins: too few to fit"
+            )
+    D_hat, log_G_hat = _D_logG(spectrum, law.slope, law.intercept)
+    if not 1 < D_hat < 2:
+        raise InputError(
+            f"no power-law band: the slope over ({2 * math.pi / law.band[1]:.3g}, {2 * math.pi / law.band[0]:.3g}) m "
+            f"gives D = {D_hat:.3g}, outside (1, 2); the surface is not self-affine there (another band may be: "
+            f"{spelled('band=(short, long)', '--band SHORT LONG')})"
+        )
+    covariance = _covariance(spectrum, law)
+    if D is not None:
+        covariance[0, :] = covariance[:, 0] = 0.0
+        covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
+    diagnostics = ()
+    filled = float(topography.info.get("filled_fraction", 0.0))
+    if filled > 0:
+        from ._characterise import _widened_for_filling
+
+        covariance, note = _widened_for_filling(covariance, filled, held=D is not None)
+        diagnostics += (note,)
+    dof = max(law.bins - 2, 2)
+    t = stats.t.ppf(0.975, dof)
+    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
+    G_hat = math.exp(log_G_hat)
+    shortest, longest = 2 * math.pi / law.band[1], 2 * math.pi / law.band[0]
+    fit_q = np.geomspace(*law.band, 50)
+    return Characterisation(
+        D=D_hat,
+        G=G_hat,
+        G_structure_function=float(convert_G(G_hat, D_hat)),
+        l_min=shortest,
+        band=(shortest, longest),
+        method="psd",
+        stderr={"D": se_D, "G": G_hat * se_logG},
+        ci95={
+            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
+            "G": tuple(G_hat * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
+        },
+        covariance=covariance,
+        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
+        groups=1,
+        estimates=np.array([[D_hat, log_G_hat]]),
+        spectrum=(spectrum.q, spectrum.C),
+        fit=(fit_q, np.exp(law.intercept + law.slope * np.log(fit_q))),
+        diagnostics=diagnostics,
+        kind=kind,
+        reliability_cutoff=cutoff,
+        dof=dof,
+        ends=law.ends,
+        rolloff=law.rolloff,
+        floor=law.floor,
+        local_slope=_q_and_D(local_slopes(spectrum)),
+    )

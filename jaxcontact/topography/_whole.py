@@ -1,0 +1,115 @@
+"""The spectrum of a whole measurement: the areal `C2D(q)` of a map, radially averaged, or the `C1D(q)`
+of a profile, in log-spaced bins with each bin's number of independent modes and the periodogram's
+own scatter (docs/topography.md).
+
+Conventions as SurfaceTopography's: `C2D(q) = |Δx Δy Σ h w e^(-i q·r)|² / A` and
+`C1D(q) = |Δx Σ h w e^(-i q x)|² / L`, with `w` a Hann window of mean square 1 where the
+measurement is not periodic (after removing a quadratic surface or a cubic per profile: wavelengths
+longer than the measurement appear in it as trends, which the window would leak into the band).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ._spectra import DETREND_DEGREE
+
+BINS_PER_DECADE = 20
+# The variance of the mean of Hann-windowed periodogram values is this many times (per dimension)
+# that of independent ones: adjacent DFT coefficients correlate by -2/3, next-adjacent by 1/6,
+# so Σ ρ² = 1 + 2 (4/9 + 1/36).
+HANN_VARIANCE_FACTOR = 1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class Spectrum:
+    """A binned spectrum: `q` (rad/m, the bins' geometric means), `C` (mean periodogram, m⁴ areal
+    or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (the variance of one mode's
+    periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
+    measurement of a Gaussian surface); `kind` ("areal" or "profile"); `spacing` (m)."""
+
+    q: np.ndarray
+    C: np.ndarray
+    modes: np.ndarray
+    scatter: float
+    kind: str
+    spacing: float
+
+    @property
+    def log_variance(self) -> np.ndarray:
+        """The variance of `ln C` per bin: `scatter / modes`."""
+        return self.scatter / self.modes
+
+    def slope_of(self, D: float) -> float:
+        """The log-log slope of the W-M power law: `-(6 - 2D)` areal, `-(5 - 2D)` profile."""
+        return -((6.0 if self.kind == "areal" else 5.0) - 2.0 * D)
+
+    def D_of(self, slope):
+        return ((6.0 if self.kind == "areal" else 5.0) + slope) / 2.0
+
+
+def _detrended(heights: np.ndarray) -> np.ndarray:
+    """`heights` less a least-squares polynomial: a cubic for a profile, a quadric surface for a map."""
+    if heights.ndim == 1:
+        x = np.linspace(-1.0, 1.0, heights.size)
+        basis = np.polynomial.legendre.legvander(x, DETREND_DEGREE)
+    else:
+        x, y = np.meshgrid(*(np.linspace(-1.0, 1.0, n) for n in heights.shape), indexing="ij")
+        basis = np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1).reshape(-1, 6)
+    # Normal equations: a few columns against millions of rows, well conditioned on [-1, 1].
+    coefficients = np.linalg.solve(basis.T @ basis, basis.T @ heights.reshape(-1))
+    return heights - (basis @ coefficients).reshape(heights.shape)
+
+
+def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BINS_PER_DECADE) -> Spectrum:
+    """The binned spectrum of a whole profile (1-D `heights`) or map (2-D), grid spacing `spacing` (m)."""
+    heights = np.asarray(heights, dtype=float)
+    if periodic:
+        windowed = heights - heights.mean()
+    else:
+        window = np.hanning(heights.shape[0])
+        for n in heights.shape[1:]:
+            window = np.multiply.outer(window, np.hanning(n))
+        windowed = _detrended(heights) * window / math.sqrt(np.mean(window**2))
+    transform = np.fft.rfftn(windowed)
+    C = spacing**heights.ndim * np.abs(transform) ** 2 / heights.size
+    axes = [2 * np.pi * np.fft.fftfreq(n, spacing) for n in heights.shape[:-1]]
+    axes.append(2 * np.pi * np.fft.rfftfreq(heights.shape[-1], spacing))
+    q = np.sqrt(sum(a**2 for a in np.meshgrid(*axes, indexing="ij")))
+    # A real field's transform is Hermitian: an inner column of the half-spectrum stands for itself
+    # and its mirror image (one independent mode, weight 2); the first (and a Nyquist) column holds
+    # both members of each pair (weight 1 each). Half the total weight counts independent modes.
+    weight = np.full(q.shape, 2.0)
+    weight[..., 0] = 1.0
+    if heights.shape[-1] % 2 == 0:
+        weight[..., -1] = 1.0
+    lowest, highest = 2 * np.pi / (max(heights.shape) * spacing), np.pi / spacing
+    count = int(math.ceil(per_decade * math.log10(highest / lowest)))
+    edges = np.geomspace(lowest * (1 - 1e-9), highest, count + 1)
+    index = np.digitize(q.ravel(), edges) - 1
+    inside = (index >= 0) & (index < count) & (q.ravel() > 0)
+    index, w, c = index[inside], weight.ravel()[inside], C.ravel()[inside]
+    total = np.bincount(index, w, count)
+    keep = total > 0
+    mean = np.bincount(index, w * c, count)[keep] / total[keep]
+    square = np.bincount(index, w * c * c, count)[keep] / total[keep]
+    log_q = np.bincount(index, w * np.log(q.ravel()[inside]), count)[keep] / total[keep]
+    modes = total[keep] / 2.0
+    # One mode's relative variance from the bins' own scatter (1 for a Gaussian field's exponential
+    # periodogram; other syntheses differ), robust to the few bins a kink in the spectrum crosses.
+    populated = modes >= 8
+    relative = square[populated] / np.maximum(mean[populated], 1e-300) ** 2 - 1.0
+    scatter = float(np.median(relative)) if populated.any() else 1.0
+    if not periodic:
+        scatter *= HANN_VARIANCE_FACTOR**heights.ndim
+    return Spectrum(
+        q=np.exp(log_q),
+        C=mean,
+        modes=modes,
+        scatter=max(scatter, 1e-3),
+        kind="areal" if heights.ndim == 2 else "profile",
+        spacing=spacing,
+    )

@@ -1,0 +1,148 @@
+"""The band found from the data: maps and profiles made the way instruments make them (a sharp
+cutoff inside the grid, a Gaussian transfer function, a white noise floor), with known D and G."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from helpers import ROOT
+from SurfaceTopography import Topography, UniformLineScan
+
+from jaxcontact import topography as tp
+from jaxcontact.cli import main
+
+G_TRUE = 1e-10
+SIZE = 1e-3
+GRID = 1024
+TOPOGRAPHIES = ROOT.parent / "shared" / "data" / "topographies"
+
+
+def _artefact(heights, kind: str, amount: float, seed: int):
+    """`heights` (a periodic grid, any dimension) blurred by a Gaussian of `amount` spacings, or with
+    white noise of `amount` times their rms."""
+    if kind == "blur":
+        axes = [np.fft.fftfreq(n) for n in heights.shape[:-1]] + [np.fft.rfftfreq(heights.shape[-1])]
+        q2 = sum(a**2 for a in np.meshgrid(*(2 * np.pi * a for a in axes), indexing="ij"))
+        return np.fft.irfftn(np.fft.rfftn(heights) * np.exp(-q2 * amount**2 / 2), heights.shape, axes=range(heights.ndim))
+    return heights + amount * heights.std() * np.random.default_rng(seed).standard_normal(heights.shape)
+
+
+def make_map(D, kind, amount, seed, grid=GRID):
+    if kind == "cut":
+        return tp.areal_map(D, G_TRUE, SIZE, grid, l_min=amount * SIZE / grid, seed=seed)
+    heights = tp.areal_map(D, G_TRUE, SIZE, grid, seed=seed).heights()
+    return Topography(_artefact(heights, kind, amount, seed), (SIZE, SIZE), periodic=True)
+
+
+def make_profile(D, kind, amount, seed, points=100_000):
+    if kind == "cut":
+        return tp.random_profile(D, G_TRUE, SIZE, points, l_min=amount * SIZE / points, seed=seed)
+    heights = tp.random_profile(D, G_TRUE, SIZE, points, seed=seed).heights()
+    return UniformLineScan(_artefact(heights, kind, amount, seed), SIZE, periodic=True)
+
+
+# (kind, amount, tolerance on D): ±0.03 where it holds; the wider ones are today's accuracy there
+# (docs/topography.md, "How well the band is found").
+MAP_CASES = [
+    ("cut", 6, 0.03),
+    ("cut", 10, 0.03),
+    ("cut", 16, 0.05),
+    ("blur", 1.0, 0.03),
+    ("blur", 2.5, 0.05),
+    ("noise", 0.01, 0.03),
+    ("noise", 0.05, 0.05),
+    ("noise", 0.10, 0.05),
+]
+
+
+@pytest.mark.parametrize("kind, amount, tolerance", MAP_CASES)
+@pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
+def test_D_of_a_map_with_an_instrument_artefact(kind, amount, tolerance, D):
+    for seed in (0, 1):
+        assert abs(tp.characterise(make_map(D, kind, amount, seed)).D - D) < tolerance
+
+
+@pytest.mark.parametrize("kind, amount", [("cut", 10), ("blur", 2.5), ("noise", 0.05)])
+def test_G_with_D_held_at_the_truth(kind, amount):
+    ratio = tp.characterise(make_map(1.5, kind, amount, 0), D=1.5).G / G_TRUE
+    assert 1 / 1.5 < ratio < 1.5
+
+
+def test_the_roll_off_of_a_gaussian_transfer_function_is_found():
+    c = tp.characterise(make_map(1.5, "blur", 2.5, 0))
+    assert c.rolloff == pytest.approx(2.5 * SIZE / GRID, rel=0.1)
+
+
+def test_the_band_stops_short_of_a_sharp_cutoff():
+    c = tp.characterise(make_map(1.5, "cut", 10, 0))
+    assert c.band[0] >= 10 * SIZE / GRID
+
+
+@pytest.mark.parametrize("kind, amount", [("noise", 0.0), ("blur", 2.5)])
+def test_the_joint_95_percent_region_covers_the_truth(kind, amount):
+    """20 seeds at D = 1.5, without artefact and blurred (a sharp cutoff and a white noise floor do not
+    reach this coverage yet: docs/topography.md)."""
+    covered = sum(tp.characterise(make_map(1.5, kind, amount, 100 + s)).covers(1.5, G_TRUE) for s in range(20))
+    assert covered >= 17
+
+
+@pytest.mark.parametrize("kind, amount", [("cut", 10), ("blur", 2.5), ("noise", 0.05)])
+@pytest.mark.parametrize("D", [1.5, 1.8])
+def test_D_of_a_profile_with_an_instrument_artefact(kind, amount, D):
+    assert abs(tp.characterise(make_profile(D, kind, amount, 0)).D - D) < 0.05
+
+
+def test_a_2048_map_is_characterised_like_a_1024_one():
+    assert abs(tp.characterise(make_map(1.5, "blur", 4.0, 0, grid=2048)).D - 1.5) < 0.03
+
+
+def test_the_areal_spectrum_is_surfacetopographys():
+    """C2D in SurfaceTopography's convention: its radially averaged PSD of the same periodic map."""
+    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
+    q_st, C_st = surface.power_spectrum_from_area(nb_points_per_decade=10)
+    c = tp.characterise(surface, band=(8 * SIZE / 256, SIZE / 4))
+    ours = np.interp(np.log(q_st[5:-5]), np.log(c.spectrum[0]), np.log(c.spectrum[1]))
+    assert np.median(np.abs(ours - np.log(C_st[5:-5]))) < 0.1
+
+
+def test_white_noise_has_no_band_and_says_so():
+    noise = Topography(np.random.default_rng(0).standard_normal((256, 256)) * 1e-7, (SIZE, SIZE), periodic=True)
+    with pytest.raises(tp.NoBandError, match="no stretch of the spectrum has the slope of a self-affine surface"):
+        tp.characterise(noise)
+
+
+def test_a_refusal_writes_psd_png_and_exits_2(tmp_path, capsys):
+    noise = np.random.default_rng(0).standard_normal((256, 256)) * 1e-7
+    path = tmp_path / "noise.npy"
+    np.save(path, noise)
+    code = main(["surface", str(path), "--size", "1e-3", "1e-3", "--out", str(tmp_path / "o")])
+    assert (code, (tmp_path / "o" / "psd.png").is_file()) == (2, True)
+
+
+@pytest.mark.skipif(not TOPOGRAPHIES.is_dir(), reason="the real instrument files live in ../shared/data")
+def test_a_refusal_suggests_a_band_on_the_command_line(tmp_path, capsys):
+    main(["surface", str(TOPOGRAPHIES / "hfm-1.hfm"), "--out", str(tmp_path)])
+    assert "--band " in capsys.readouterr().err
+
+
+def test_disagreeing_methods_are_named_in_a_diagnostic():
+    c = tp.characterise(make_map(1.5, "cut", 10, 0))
+    other = dataclasses.replace(c, D=c.D + 0.3, stderr={"D": 0.01, "G": c.G})
+    assert any("the two methods disagree" in d and f"{other.D:.3f}" in d for d in tp.compared(c, other).diagnostics)
+
+
+def test_disagreeing_methods_widen_the_interval():
+    c = tp.characterise(make_map(1.5, "cut", 10, 0))
+    other = dataclasses.replace(c, D=c.D + 0.3, stderr={"D": 0.01, "G": c.G})
+    assert tp.compared(c, other).stderr["D"] > 0.15
+
+
+def test_agreeing_methods_leave_the_interval_alone():
+    c = tp.characterise(make_map(1.5, "cut", 10, 0))
+    assert tp.compared(c, c).stderr["D"] == c.stderr["D"]
+
+
+def test_heights_in_micrometres_read_as_metres_are_flagged():
+    heights = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=0).heights() * 1e6
+    c = tp.characterise(Topography(heights, (SIZE, SIZE), periodic=True))
+    assert any("--unit" in d for d in c.diagnostics)
