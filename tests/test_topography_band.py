@@ -23,7 +23,9 @@ def _artefact(heights, kind: str, amount: float, seed: int):
     if kind == "blur":
         axes = [np.fft.fftfreq(n) for n in heights.shape[:-1]] + [np.fft.rfftfreq(heights.shape[-1])]
         q2 = sum(a**2 for a in np.meshgrid(*(2 * np.pi * a for a in axes), indexing="ij"))
-        return np.fft.irfftn(np.fft.rfftn(heights) * np.exp(-q2 * amount**2 / 2), heights.shape, axes=range(heights.ndim))
+        return np.fft.irfftn(
+            np.fft.rfftn(heights) * np.exp(-q2 * amount**2 / 2), heights.shape, axes=range(heights.ndim)
+        )
     return heights + amount * heights.std() * np.random.default_rng(seed).standard_normal(heights.shape)
 
 
