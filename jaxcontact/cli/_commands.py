@@ -17,11 +17,15 @@ def cmd_run(args) -> int:
     from ._scenefile import load_scene
 
     spec = load_scene(args.scene)
-    band = None
+    band, others, notes = None, {}, []
     if getattr(args, "topography", None):
-        from ._surface_commands import topography_scene
+        from ._topography_run import topography_run
 
-        spec, band = topography_scene(spec, args)
+        spec, band, others, notes = topography_run(spec, args)
+    elif args.command == "run":
+        from ._topography_run import overridden
+
+        spec = overridden(spec, args)
     warnings = implausible_values(spec)
     solution = solve_sweep(
         spec.scene,
@@ -32,8 +36,12 @@ def cmd_run(args) -> int:
     )
     rows = solution_rows(solution)
     if band is not None:
-        for row, lower, upper in zip(rows, band.lower, band.upper):
+        from ._topography_run import zero_note
+
+        for k, (row, lower, upper) in enumerate(zip(rows, band.lower, band.upper)):
             row["K_lower_95_N_per_m"], row["K_upper_95_N_per_m"] = float(lower), float(upper)
+            row.update({f"K_{name}_N_per_m": float(K[k]) for name, K in others.items()})
+        notes[1:1] = [n for n in [zero_note(spec.scene.model.name, solution)] if n]
     if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
         for row, extra in zip(rows, _approach_rows(spec)):
             row["approach_m"] = extra["approach_m"]
@@ -47,17 +55,32 @@ def cmd_run(args) -> int:
     if band is not None:
         from ._surface_commands import plot_band
 
-        files.append(plot_band(band, spec.title, out / "stiffness_band.png"))
+        files.append(plot_band(band, spec.title, out / "stiffness_band.png", others, spec.scene.model.name))
     choices = ", ".join(f"{k} {v!r}" for k, v in spec.scene.model.options().items())
     flagged = flagged_summary(solution.status)
     plastic = int(np.sum(solution.fully_plastic))
     if plastic:
         flagged += f"; {plastic} fully plastic (K = 0: every contact spot is plastic, Sec. 4.2)"
-    summary = f"{spec.title}\n{choices}; {flagged}\n\n{format_table(rows)}\n\n" + "\n".join(f"wrote {f}" for f in files)
+    summary = (
+        f"{spec.title}\n{choices}; {flagged}\n"
+        + "".join(f"{n}\n" for n in notes)
+        + f"\n{format_table(rows, _columns(rows))}\n\n"
+        + "\n".join(f"wrote {f}" for f in files)
+    )
     payload = {"title": spec.title, "source": spec.source, "scene": record, "flagged": flagged, "warnings": warnings}
+    payload["notes"] = notes
     payload["rows"] = rows
     print_result({**payload, "files": files}, args.format, summary)
     return 0
+
+
+def _columns(rows) -> tuple[str, ...]:
+    """The table's columns: the usual ones, and a topography run's band and other models beside K."""
+    usual = ("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")
+    if not rows or "K_lower_95_N_per_m" not in rows[0]:
+        return usual
+    extra = [c for c in rows[0] if c.startswith("K_") and c not in usual]
+    return ("F_N", "F_star", "K_N_per_m", *extra, "status")
 
 
 def _approach_rows(spec):

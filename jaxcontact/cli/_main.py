@@ -22,6 +22,7 @@ from ._output import CommandError
 from ._process import command_settings, plotting_imported_while_compiling, warnings_as_lines
 from ._study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
 from ._surface_commands import add_topography_options, cmd_surface
+from ._topography_run import add_run_topography_options
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
@@ -82,6 +83,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--topography", help="a measured surface file: D, G, l_min from it, K(F) with its 95 %% band")
     add_topography_options(p)
+    add_run_topography_options(p)
     p = command("surface", "D, G (both conventions) and l_min of a measured surface, with intervals")
     p.add_argument("file", help="topography file (any format SurfaceTopography reads)")
     add_topography_options(p)

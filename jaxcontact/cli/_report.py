@@ -82,8 +82,15 @@ def _status_cell(row: dict) -> str:
     return "ok (K = 0: every spot plastic)" if row.get("fully_plastic") else row["status"]
 
 
+def _header(column: str) -> str:
+    """`K_<what>_N_per_m` as `K <what> (N/m)`; other columns by their own name."""
+    if column.startswith("K_") and column.endswith("_N_per_m"):
+        return f"K {column[2:-8].replace('_', ' ')} (N/m)"
+    return column
+
+
 def format_table(rows: list[dict], columns=("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")) -> str:
-    header = [HEADERS.get(c, c) for c in columns]
+    header = [HEADERS.get(c, _header(c)) for c in columns]
     cells = [[_status_cell(r) if c == "status" else _cell(r[c]) for c in columns] for r in rows]
     widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(header)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]

@@ -59,8 +59,20 @@ def characterise_file(args, method: str = "psd"):
 
 def scene_text(characterisation, title: str) -> str:
     """A whole scene file: the default scene with its surface replaced by the characterised one."""
+    from ..models import MODELS
+    from ._topography_run import CLOSEST_TO_BEM
+
     default = importlib.resources.files("jaxcontact").joinpath("scenes", DEFAULT_SCENE).read_text()
     rest = default[default.index("[material]") :]
+    names = " | ".join(f'"{name}"' for name in MODELS)
+    rest = re.sub(
+        r'(?m)^name = .*$',
+        f'name = "{CLOSEST_TO_BEM}"  # one of {names}; {CLOSEST_TO_BEM} is the closest to the '
+        "boundary-element reference (docs/validation.md)",
+        rest,
+    )
+    # The seed model's options; other models refuse them.
+    rest = re.sub(r"(?m)^(interaction|distribution) = ", r"# (xia2024, jzz2010 only) \1 = ", rest)
     return f'title = "{title}"\n\n{characterisation.scene_fragment()}\n{rest}'
 
 
@@ -183,32 +195,35 @@ def cmd_surface(args) -> int:
     return 0
 
 
-def topography_scene(spec, args):
-    """The scene with its surface characterised from `args.topography`, and K(F)'s 95 % band."""
-    import dataclasses
-
-    import equinox as eqx
-
-    from ..topography import stiffness_band
-
-    _, c = characterise_file(args)
-    scene = eqx.tree_at(lambda s: s.surface, spec.scene, c.surface)
-    title = f"{pathlib.Path(args.topography).name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
-    return dataclasses.replace(spec, scene=scene, title=title), stiffness_band(c, scene, spec.loads)
-
-
-def plot_band(band, title, path) -> str:
-    """K(F) with its 95 % band from the surface's (D, G) uncertainty."""
+def plot_band(band, title, path, others=None, model: str = "") -> str:
+    """K(F) with its 95 % band from the surface's (D, G) uncertainty, and other models' K as lines; a
+    model without a positive K at any load is named on the plot instead of drawn."""
     import numpy as np
 
     from ._plots import save_figure, subplots
 
     fig, ax = subplots()
     positive = np.isfinite(band.stiffness) & (band.stiffness > 0)
-    ax.loglog(band.load[positive], band.stiffness[positive], "-", color="C0", label="K at the surface's D, G")
-    ax.fill_between(
-        band.load[positive], band.lower[positive], band.upper[positive], color="C0", alpha=0.25, label="95 % band"
-    )
+    missing = []
+    if positive.any():
+        ax.loglog(
+            band.load[positive], band.stiffness[positive], "-", color="C0", label=f"{model} at the surface's D, G"
+        )
+        ax.fill_between(
+            band.load[positive], band.lower[positive], band.upper[positive], color="C0", alpha=0.25, label="95 % band"
+        )
+    else:
+        missing.append(model)
+    for k, (name, K) in enumerate((others or {}).items()):
+        drawn = np.isfinite(K) & (K > 0)
+        if drawn.any():
+            ax.loglog(band.load[drawn], K[drawn], "--", color=f"C{k + 1}", lw=1, label=name)
+        else:
+            missing.append(name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    if missing:
+        ax.text(0.02, 0.02, "no positive K at any load: " + ", ".join(missing), transform=ax.transAxes, fontsize=8)
     ax.set_xlabel("F (N)")
     ax.set_ylabel("K (N/m)")
     ax.set_title(title, fontsize=8)

@@ -30,6 +30,7 @@ import dataclasses
 import math
 
 import numpy as np
+from scipy import optimize
 
 from ._whole import Spectrum
 
@@ -38,7 +39,13 @@ MIN_RATIO = 4.0
 Z = 3.0
 # No measured spectrum is a power law to better than about 1 % per bin.
 SYSTEMATIC = 0.01
+# Nor is an instrument's height scale known to better than about 1 %: 2 % in C, the same at every q.
+CALIBRATION = 0.02
+# The floor is sought in the spectrum's top decade and a half, under a power law steeper than this
+# (a self-affine spectrum's slope is below -2: -(6-2D) areal, -(5-2D) profile).
+FLOOR_DECADES = 1.5
 FLOOR_SLOPE = -1.8
+FLOOR_MARGIN = 3.0
 ROLLOFF_CAP = 2.0
 ROLLOFF_GAIN = 1.25
 TRIM = math.log(2.0)
@@ -86,16 +93,40 @@ def _prepare(spectrum: Spectrum, q_max: float | None) -> _Prepared | None:
     q, C, modes = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep]
     if q.size < 5:
         return None
-    floor = 0.0
-    top = q >= q[-1] / 2
-    if top.sum() >= 3 and np.polyfit(np.log(q[top]), np.log(C[top]), 1)[0] > FLOOR_SLOPE:
-        floor = float(np.average(C[top], weights=modes[top]))
-        above = C > 3 * floor
+    floor = _noise_floor(q, C, modes, spectrum.scatter)
+    if floor > 0:
+        above = C > FLOOR_MARGIN * floor
         q, C, modes = q[above], C[above] - floor, modes[above]
-        short_cause = "the noise floor (subtracted; within 3× of it beyond)"
+        short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
         if q.size < 5:
             return None
     return _prepared(q, C, modes, spectrum.scatter, floor, bool(spectrum.modes[0] < MIN_MODES), short_cause)
+
+
+def _noise_floor(q, C, modes, scatter) -> float:
+    """The white noise level of the spectrum's top `FLOOR_DECADES`, or 0 where there is none.
+
+    `C = A q^b + N` is fitted there (log residuals, weighted by the bins' own scatter) against
+    `C = A q^b`; a floor is kept when it lowers χ² by more than `Z²` and lies below the bins (a
+    spectrum that flattens at its short end, where a roll-off would steepen it)."""
+    top = q >= q[-1] / 10**FLOOR_DECADES
+    if top.sum() < 6:
+        return 0.0
+    x, y, w = np.log(q[top]), np.log(C[top]), np.sqrt(modes[top] / scatter)
+    line = np.polyfit(x, y, 1, w=w)
+    chi2_line = float(np.sum((w * (y - np.polyval(line, x))) ** 2))
+
+    def residuals(theta):
+        return w * (np.logaddexp(theta[0] + theta[1] * x, theta[2]) - y)
+
+    # Started from a floor at the smallest bin and the power law of the lower half of the range.
+    lower = x <= np.median(x)
+    start = np.polyfit(x[lower], y[lower], 1, w=w[lower])
+    fit = optimize.least_squares(residuals, [start[1], start[0], float(y.min())], method="lm")
+    slope, log_floor = fit.x[1], fit.x[2]
+    if not (fit.success and chi2_line - 2 * fit.cost > Z**2 and slope < FLOOR_SLOPE and log_floor < y.max()):
+        return 0.0
+    return float(np.exp(log_floor))
 
 
 def _prepared(q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="") -> _Prepared:
@@ -190,7 +221,7 @@ def _fit(p: _Prepared, i: int, j: int, rolloff: bool, slope: float | None = None
     else:
         to_physical[1, 0] = 1.0
         theta = np.array([slope, c[0]])
-    covariance = to_physical @ inverse @ to_physical.T * max(1.0, chi2 / dof)
+    covariance = to_physical @ inverse @ to_physical.T * max(1.0, chi2 / dof) + np.diag([0.0, CALIBRATION**2])
     return theta, covariance, (float(c[-1]) if rolloff else 0.0)
 
 

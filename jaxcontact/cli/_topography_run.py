@@ -1,0 +1,112 @@
+"""`jaxcontact run --topography FILE`: from a measured surface to K(F) with the model chosen (by default
+the one closest to the boundary-element reference), its 95 % band, and the other models beside it."""
+
+from __future__ import annotations
+
+import dataclasses
+import pathlib
+
+import numpy as np
+
+# docs/validation.md: over L/l_min = 16…128 Persson's K stays within 0.92–1.06 of the elastic BEM on the
+# same surface; GW grows as (L/l_min)^0.13–0.16 and the seed model as (L/l_min)^0.24–0.38 from it.
+CLOSEST_TO_BEM = "persson"
+# Models left out of the comparison, and why (each is a few minutes per curve, not seconds).
+NOT_COMPARED = {"bem": "the boundary-element model solves the surface itself: jaxcontact compare --topography FILE"}
+
+
+def add_run_topography_options(p) -> None:
+    from ..models import MODELS
+
+    p.add_argument(
+        "--model",
+        choices=tuple(MODELS),
+        help=f"the contact model (default with --topography: {CLOSEST_TO_BEM}, the closest to the boundary-element "
+        "reference in docs/validation.md; without: the scene's)",
+    )
+    p.add_argument("--l-min", type=float, help="l_min in m (default: the fit band's short end, or the scene's)")
+    p.add_argument("--modulus", type=float, help="contact modulus E in Pa (default: the scene's)")
+    p.add_argument("--poisson", type=float, help="Poisson's ratio (default: the scene's)")
+    p.add_argument("--hardness", type=float, help="hardness H in Pa (default: the scene's)")
+    p.add_argument("--area", type=float, help="nominal contact area in m² (default: the scene's)")
+
+
+def _scene(scene, model: str, surface, args):
+    import equinox as eqx
+
+    from ..core import Scene
+    from ..quantities import Material
+
+    material = Material(
+        E=scene.material.E if args.modulus is None else args.modulus,
+        nu=scene.material.nu if args.poisson is None else args.poisson,
+        H=scene.material.H if args.hardness is None else args.hardness,
+    )
+    area = scene.area if args.area is None else args.area
+    if model == scene.model.name:  # the scene's own model keeps the scene's options
+        return eqx.tree_at(lambda s: (s.surface, s.material, s.area), scene, (surface, material, area))
+    return Scene(surface, material, area, model=model)
+
+
+def zero_note(name: str, solution) -> str | None:
+    """One line on why a model gives no stiffness at any load, or None if it gives some."""
+    K, status = np.asarray(solution.stiffness), np.asarray(solution.status)
+    if np.any((status == 0) & (K > 0)):
+        return None
+    if np.all(np.asarray(solution.fully_plastic) | (status != 0)) and np.any(solution.fully_plastic):
+        return (
+            f"{name}: K = 0 at every load: every contact spot is plastic at this l_min (its critical spot area "
+            "exceeds the largest spot; Sec. 4.2): try --l-min or another --model"
+        )
+    from ..quantities import status_message
+
+    return f"{name}: no value at any load ({status_message(int(status[status != 0][0]))})"
+
+
+def topography_run(spec, args):
+    """The scene of `spec` on the characterised surface with the chosen model and material, K(F)'s 95 %
+    band, the other models' K at the same loads, and notes (one line each)."""
+    from ..core import solve
+    from ..models import MODELS
+    from ..quantities import Surface
+    from ..topography import stiffness_band
+    from ._surface_commands import characterise_file
+
+    _, c = characterise_file(args)
+    surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
+    model = args.model or CLOSEST_TO_BEM
+    scene = _scene(spec.scene, model, surface, args)
+    name = pathlib.Path(args.topography).name
+    title = f"{name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {surface.l_min:.4g} m; model {model}"
+    band = stiffness_band(c, scene, spec.loads)
+    why = " (the closest to the boundary-element reference, docs/validation.md; --model to choose)"
+    notes = [f"model: {model}" + ("" if args.model else why)]
+    others = {}
+    for other in MODELS:
+        if other == model or other in NOT_COMPARED:
+            continue
+        others[other] = solve(_scene(spec.scene, other, surface, args), spec.loads)
+    notes += [note for note in (zero_note(k, solution) for k, solution in others.items()) if note]
+    notes += [f"{k}: not compared: {why}" for k, why in NOT_COMPARED.items() if k != model]
+    spec = dataclasses.replace(spec, scene=scene, title=title)
+    return (
+        spec,
+        band,
+        {k: np.where(np.asarray(s.ok), np.asarray(s.stiffness), np.nan) for k, s in others.items()},
+        notes,
+    )
+
+
+OVERRIDES = ("model", "l_min", "modulus", "poisson", "hardness", "area")
+
+
+def overridden(spec, args):
+    """`spec` with the model, l_min and material the options give (a run without --topography)."""
+    import equinox as eqx
+
+    if all(getattr(args, k, None) is None for k in OVERRIDES):
+        return spec
+    surface = spec.scene.surface
+    if args.l_min is not None:
+        surface = eqx.tree_at(lambda s: s.l_min, surface, args.l_min)
+    return dataclasses.replace(spec, scene=_scene(spec.scene, args.model or spec.scene.model.name, surface, args))
