@@ -165,17 +165,24 @@ def test_a_file_with_missing_points_is_refused_unless_asked_to_fill(tmp_path, ca
 
 @needs_topographies
 @pytest.mark.parametrize("name", sorted(p.name for p in TOPOGRAPHIES.glob("*")) if TOPOGRAPHIES.is_dir() else [])
-def test_every_real_file_gives_a_result_or_one_line(tmp_path, capsys, name):
-    code = main(["surface", str(TOPOGRAPHIES / name), "--out", str(tmp_path), "--format", "json"])
+def test_every_real_file_gives_a_result_or_a_refusal_with_psd_png(tmp_path, capsys, name):
+    """With consent to fill missing points: D in (1, 2) and a scene, or exit 2, psd.png and a suggestion."""
+    argv = ["surface", str(TOPOGRAPHIES / name), "--out", str(tmp_path), "--format", "json", "--fill-undefined"]
+    code = main(argv)
     captured = capsys.readouterr()
-    assert "Traceback" not in captured.err
     if code == 0:
         payload = json.loads(captured.out)
-        assert 1 < payload["psd"]["D"] < 2
-        assert (tmp_path / "surface.toml").is_file()
+        assert (1 < payload["psd"]["D"] < 2, (tmp_path / "surface.toml").is_file()) == (True, True)
     else:
-        assert code == 2
-        assert len(captured.err.strip().splitlines()) == 1
+        suggests = "--band " in captured.err or "no stretch of the spectrum" in captured.err
+        assert (code, (tmp_path / "psd.png").is_file(), suggests) == (2, True, True)
+
+
+@needs_topographies
+@pytest.mark.parametrize("name", sorted(p.name for p in TOPOGRAPHIES.glob("*")) if TOPOGRAPHIES.is_dir() else [])
+def test_every_real_file_ends_without_a_traceback(tmp_path, capsys, name):
+    main(["surface", str(TOPOGRAPHIES / name), "--out", str(tmp_path), "--format", "json"])
+    assert "Traceback" not in capsys.readouterr().err
 
 
 @needs_topographies

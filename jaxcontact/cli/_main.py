@@ -85,7 +85,11 @@ def build_parser() -> argparse.ArgumentParser:
     add_topography_options(p)
     add_run_topography_options(p)
     p = command("surface", "D, G (both conventions) and l_min of a measured surface, with intervals")
-    p.add_argument("file", help="topography file (any format SurfaceTopography reads)")
+    p.add_argument(
+        "file",
+        nargs="+",
+        help="topography file (any format SurfaceTopography reads); several files of one surface are stitched",
+    )
     add_topography_options(p)
     common(p, "jaxcontact-out/surface")
     p.set_defaults(func=cmd_surface)

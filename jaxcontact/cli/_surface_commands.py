@@ -47,13 +47,20 @@ def add_topography_options(p) -> None:
     )
 
 
-def characterise_file(args, method: str = "psd"):
-    """Read and characterise `args.topography` (or `args.file`) as the options say."""
-    from ..topography import characterise, read
+def read_file(args, path):
+    """Read `path` as the options say."""
+    from ..topography import read
 
-    path = getattr(args, "file", None) or args.topography
     size = None if args.size is None else (args.size[0] if len(args.size) == 1 else tuple(args.size))
-    topography = read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+    return read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+
+
+def characterise_file(args, method: str = "psd"):
+    """Read and characterise `args.topography` (or `args.file`, its first) as the options say."""
+    from ..topography import characterise
+
+    path = args.file[0] if getattr(args, "file", None) else args.topography
+    topography = read_file(args, path)
     return topography, characterise(topography, band=args.band, method=method, groups=args.groups)
 
 
@@ -66,7 +73,7 @@ def scene_text(characterisation, title: str) -> str:
     rest = default[default.index("[material]") :]
     names = " | ".join(f'"{name}"' for name in MODELS)
     rest = re.sub(
-        r'(?m)^name = .*$',
+        r"(?m)^name = .*$",
         f'name = "{CLOSEST_TO_BEM}"  # one of {names}; {CLOSEST_TO_BEM} is the closest to the '
         "boundary-element reference (docs/validation.md)",
         rest,
@@ -100,7 +107,9 @@ def describe(c) -> dict:
 
 def summary_text(c, name: str) -> str:
     source = (
-        f"the whole {'map' if c.kind == 'areal' else 'profile'}'s spectrum"
+        f"{c.groups} measurements' spectra joined"
+        if c.method == "psd" and c.groups > 1
+        else f"the whole {'map' if c.kind == 'areal' else 'profile'}'s spectrum"
         if c.method == "psd"
         else f"{c.groups} independent {'tiles' if c.kind == 'areal' else 'segments'}"
     )
@@ -152,6 +161,8 @@ def cmd_surface(args) -> int:
 
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if len(args.file) > 1:
+        return _stitched(args, out)
     try:
         topography, c = characterise_file(args)
     except NoBandError as exc:
@@ -161,7 +172,7 @@ def cmd_surface(args) -> int:
             spectrum, exc.local_slope, out / "psd.png", ylabel=_psd_label(kind), suggestion=exc.suggestion
         )
         raise InputError(f"{exc}; wrote {path}") from None
-    name = pathlib.Path(args.file).name
+    name = pathlib.Path(args.file[0]).name
     files = [
         psd_figure(
             c.spectrum,
@@ -190,7 +201,11 @@ def cmd_surface(args) -> int:
     if sf is not None:
         text += f"\n  structure function: D = {sf.D:.4f} ± {sf.stderr['D']:.4f}, G = {sf.G:.4g} m (W-M)"
     text += "".join(f"\n  {n}" for n in notes) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
-    payload = {"file": str(args.file), "psd": describe(c), "structure_function": None if sf is None else describe(sf)}
+    payload = {
+        "file": str(args.file[0]),
+        "psd": describe(c),
+        "structure_function": None if sf is None else describe(sf),
+    }
     print_result({**payload, "notes": notes, "files": files}, args.format, text)
     return 0
 
@@ -229,3 +244,38 @@ def plot_band(band, title, path, others=None, model: str = "") -> str:
     ax.set_title(title, fontsize=8)
     ax.legend(fontsize=8)
     return save_figure(fig, path)
+
+
+def _stitched(args, out: pathlib.Path) -> int:
+    """`surface FILE1 FILE2 ...`: one power law over the measurements' bands joined."""
+    from ..numerics import InputError
+    from ..topography import characterise_stitched
+
+    if args.band is not None:
+        raise InputError("--band applies to one file; stitched measurements each find their own band")
+    c = characterise_stitched([read_file(args, path) for path in args.file])
+    names = " + ".join(pathlib.Path(f).name for f in args.file)
+    files = [
+        psd_figure_stitched(c, out / "psd.png"),
+    ]
+    scene_path = out / "surface.toml"
+    scene_path.write_text(scene_text(c, re.sub(r'["\\]', "", f"{names} (stitched psd fit)")))
+    files.append(str(scene_path))
+    text = summary_text(c, names) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
+    payload = {"files_in": [str(f) for f in args.file], "psd": describe(c), "files": files}
+    print_result(payload, args.format, text)
+    return 0
+
+
+def psd_figure_stitched(c, path) -> str:
+    from ._surface_plots import psd_figure
+
+    return psd_figure(
+        c.spectrum,
+        (c.spectrum[0], c.spectrum[0] * float("nan")),
+        path,
+        ylabel=_psd_label(c.kind),
+        fit=c.fit,
+        D=c.D,
+        band=c.band,
+    )

@@ -9,6 +9,7 @@ from ._conventions import CONVENTIONS, areal_prefactor, convert_G, profile_prefa
 from ._psd import NoBandError
 from ._read import read
 from ._result import Characterisation
+from ._stitch import characterise_stitched
 from ._synthesis import areal_map, random_profile, wm_profile
 from ._uncertainty import StiffnessBand, stiffness_band
 
@@ -22,6 +23,7 @@ __all__ = [
     "areal_map",
     "areal_prefactor",
     "characterise",
+    "characterise_stitched",
     "convert_G",
     "profile_prefactor",
     "random_profile",

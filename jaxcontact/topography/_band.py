@@ -10,7 +10,7 @@ independent modes in every bin, take the *widest* in log q in which
 3. the slope gives 1 < D < 2.
 
 Instruments add three artefacts that the window's ends must exclude. A white **noise floor** (a
-spectrum that flattens at its short end, slope above `FLOOR_SLOPE`, shallower than any
+spectrum that flattens at its short end, its slope `FLOOR_MARGIN_SLOPE` above that of D = 2, shallower than any
 self-affine one) is estimated from the top octave and subtracted; bins within 3× of it are left
 out. A **transfer function** (an optical profiler's lateral resolution, a tip) rolls the spectrum
 off gradually, which a straight line absorbs by tilting: a window may therefore carry a Gaussian
@@ -30,23 +30,24 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import optimize
+from scipy import optimize, special
 
 from ._whole import Spectrum
 
-MIN_MODES = 6
+MIN_MODES = 3
 MIN_RATIO = 4.0
 Z = 3.0
 # No measured spectrum is a power law to better than about 1 % per bin.
 SYSTEMATIC = 0.01
 # Nor is an instrument's height scale known to better than about 1 %: 2 % in C, the same at every q.
 CALIBRATION = 0.02
-# The floor is sought in the spectrum's top decade and a half, under a power law steeper than this
-# (a self-affine spectrum's slope is below -2: -(6-2D) areal, -(5-2D) profile).
+# The floor is sought in the spectrum's top decade and a half, under a power law steeper than D = 2's
+# slope (-2 areal, -1 profile) less this; a top that is flatter than D = 2's plus this is all floor.
 FLOOR_DECADES = 1.5
-FLOOR_SLOPE = -1.8
-FLOOR_MARGIN = 3.0
-ROLLOFF_CAP = 2.0
+FLOOR_MARGIN_SLOPE = 0.2
+FLOOR_MARGIN = 2.0
+ROUND_OFF = 1e-16
+ROLLOFF_CAP = 4.0
 ROLLOFF_GAIN = 1.25
 TRIM = math.log(2.0)
 
@@ -58,7 +59,8 @@ class PowerLaw:
     **Fields:** `slope`, `intercept` (ln C at q = 1 rad/m), `covariance` of (slope, intercept);
     `band`; `rolloff` (σ of the corrected roll-off `exp(-(qσ)²)` in m, or None); `floor` (the
     subtracted white noise level of C, or 0); `ends` (why the long and the short end lie where they
-    do); `bins` (in the band).
+    do); `bins` (in the band); `points` (the band's bins as q, debiased ln C with the floor and the
+    roll-off taken out, and weight: what a fit over several measurements joins).
     """
 
     slope: float
@@ -69,6 +71,7 @@ class PowerLaw:
     floor: float
     ends: tuple[str, str]
     bins: int
+    points: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -90,29 +93,45 @@ def _prepare(spectrum: Spectrum, q_max: float | None) -> _Prepared | None:
     if q_max is not None and np.any(spectrum.q > q_max):
         keep &= spectrum.q <= q_max
         short_cause = "the tip's reliability cutoff"
-    q, C, modes = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep]
+    q, C, modes, scatter = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep], spectrum.scatter[keep]
+    q2 = (spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[keep]
     if q.size < 5:
         return None
-    floor = _noise_floor(q, C, modes, spectrum.scatter)
+    floor = _noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
     if floor > 0:
         above = C > FLOOR_MARGIN * floor
-        q, C, modes = q[above], C[above] - floor, modes[above]
+        q, C, modes, scatter, q2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above]
         short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
         if q.size < 5:
             return None
-    return _prepared(q, C, modes, spectrum.scatter, floor, bool(spectrum.modes[0] < MIN_MODES), short_cause)
+    lost_long = bool(spectrum.modes[0] < MIN_MODES)
+    return _prepared(q, C, modes, scatter, floor, lost_long, short_cause, q2)
 
 
-def _noise_floor(q, C, modes, scatter) -> float:
-    """The white noise level of the spectrum's top `FLOOR_DECADES`, or 0 where there is none.
+def _noise_floor(q, C, modes, scatter, flattest: float) -> float:
+    """The white noise level of the spectrum's short end, or 0 where there is none.
 
-    `C = A q^b + N` is fitted there (log residuals, weighted by the bins' own scatter) against
-    `C = A q^b`; a floor is kept when it lowers χ² by more than `Z²` and lies below the bins (a
-    spectrum that flattens at its short end, where a roll-off would steepen it)."""
-    top = q >= q[-1] / 10**FLOOR_DECADES
+    `C = A q^b + N` is fitted over the top `FLOOR_DECADES` (log residuals, weighted by the bins' own
+    scatter), and over twice that where the floor covers the whole top; a floor is kept when it
+    lowers χ² by more than `Z²` against `C = A q^b` and lies below the bins (a spectrum that flattens
+    at its short end, where a roll-off would steepen it). A top octave that is flat already (slope
+    above `flattest`) is the floor: its mean."""
+    for decades in (FLOOR_DECADES, 2 * FLOOR_DECADES):
+        floor = _fitted_floor(q, C, modes, scatter, decades, flattest)
+        # Far below the spectrum's top, a "floor" is the FFT's round-off under a steep roll-off.
+        if floor > ROUND_OFF * C.max():
+            return floor
+    top = q >= q[-1] / 2
+    if top.sum() >= 3 and np.polyfit(np.log(q[top]), np.log(C[top]), 1)[0] > flattest:
+        return float(np.average(C[top], weights=modes[top]))
+    return 0.0
+
+
+def _fitted_floor(q, C, modes, scatter, decades: float, flattest: float) -> float:
+    top = q >= q[-1] / 10**decades
     if top.sum() < 6:
         return 0.0
-    x, y, w = np.log(q[top]), np.log(C[top]), np.sqrt(modes[top] / scatter)
+    x, y, w = np.log(q[top]), np.log(C[top]), np.sqrt(modes[top] / scatter[top])
     line = np.polyfit(x, y, 1, w=w)
     chi2_line = float(np.sum((w * (y - np.polyval(line, x))) ** 2))
 
@@ -124,20 +143,30 @@ def _noise_floor(q, C, modes, scatter) -> float:
     start = np.polyfit(x[lower], y[lower], 1, w=w[lower])
     fit = optimize.least_squares(residuals, [start[1], start[0], float(y.min())], method="lm")
     slope, log_floor = fit.x[1], fit.x[2]
-    if not (fit.success and chi2_line - 2 * fit.cost > Z**2 and slope < FLOOR_SLOPE and log_floor < y.max()):
+    if not (
+        fit.success
+        and chi2_line - 2 * fit.cost > Z**2
+        and slope < flattest - 2 * FLOOR_MARGIN_SLOPE
+        and log_floor < y.max()
+    ):
         return 0.0
     return float(np.exp(log_floor))
 
 
-def _prepared(q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="") -> _Prepared:
-    variance = scatter / modes
+def _prepared(q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="", q_squared=None) -> _Prepared:
+    """`C` (less `floor`, already) in log-log with its per-bin bias correction and weight."""
+    # A bin's mean of `modes` periodogram values of relative variance `scatter` is Gamma-distributed
+    # with shape k = modes / scatter: E ln(mean/C) = ψ(k) - ln k, var ln(mean) = ψ'(k).
+    k = modes / scatter
+    # The floor's subtraction leaves the bin's scatter: relative to what is left, it grows by (C+N)/C.
+    variance = special.polygamma(1, k) * ((C + floor) / C) ** 2
     x = np.log(q)
     return _Prepared(
         x=x - x.mean(),
         x0=float(x.mean()),
-        y=np.log(C) + variance / 2,  # E ln(mean) = ln C - var/2 for a bin's mean of periodogram values
+        y=np.log(C) - (special.digamma(k) - np.log(k)),
         w=1.0 / (variance + SYSTEMATIC**2),
-        u=-((q / q[-1]) ** 2),
+        u=-(q * q if q_squared is None else q_squared) / q[-1] ** 2,
         q=q,
         floor=floor,
         lost_long=lost_long,
@@ -225,6 +254,19 @@ def _fit(p: _Prepared, i: int, j: int, rolloff: bool, slope: float | None = None
     return theta, covariance, (float(c[-1]) if rolloff else 0.0)
 
 
+def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
+    """`_fit` over bins i..j, its covariance with the band's systematic: the change when either end
+    moves in by a factor 2."""
+    theta, covariance, kappa = _fit(p, i, j, rolloff, slope)
+    shorter = int(np.searchsorted(p.x, p.x[j] - TRIM, side="right")) - 1
+    longer = int(np.searchsorted(p.x, p.x[i] + TRIM, side="left"))
+    for start, stop in ((i, shorter), (longer, j)):
+        if stop - start >= 4:
+            moved = _fit(p, start, stop, rolloff, slope)[0] - theta
+            covariance = covariance + np.outer(moved, moved)
+    return theta, covariance, kappa
+
+
 def select_band(
     spectrum: Spectrum, q_max: float | None = None, slope: float | None = None
 ) -> PowerLaw | tuple[float, float] | None:
@@ -239,21 +281,21 @@ def select_band(
     if p is None:
         return None
     straight, rolled, reduced, D, wide = _windows(p, spectrum.D_of)
-    first, second = _widest(p, straight), _widest(p, rolled)
-    rolloff = second is not None and (first is None or p.x[second[1]] - p.x[first[1]] > math.log(ROLLOFF_GAIN))
-    pick = second if rolloff else first
-    if pick is None:
+    # Beside a subtracted floor a roll-off is not sought: the subtraction's own scatter can mimic one.
+    options = [(w, r) for w, r in ((_widest(p, straight), False), (_widest(p, rolled), True)) if w is not None]
+    options = [(w, r) for w, r in options if not (r and p.floor > 0)]
+    if not options:
         candidates = wide & (D > 1) & (D < 2)
         if not candidates.any():
             return None
         i, j = np.unravel_index(int(np.argmin(np.where(candidates, reduced, np.inf))), reduced.shape)
         return 2 * np.pi / p.q[j], 2 * np.pi / p.q[i]
-    i, j = (int(k) for k in pick)
-    theta, covariance, kappa = _fit(p, i, j, rolloff, slope)
-    trimmed = int(np.searchsorted(p.x, p.x[j] - TRIM, side="right")) - 1
-    if trimmed - i >= 4:
-        moved = _fit(p, i, trimmed, rolloff, slope)[0] - theta
-        covariance = covariance + np.outer(moved, moved)
+    # Of the widest straight window and the widest roll-off-corrected one, the one that determines
+    # the slope better, its band's systematic included: a straight line tilted to absorb a roll-off
+    # moves when the short end does.
+    fits = [(_with_systematics(p, int(w[0]), int(w[1]), r, slope), w, r) for w, r in options]
+    (theta, covariance, kappa), (i, j), rolloff = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
+    i, j = int(i), int(j)
     short = (
         p.short_cause
         if j == p.x.size - 1
@@ -262,7 +304,11 @@ def select_band(
         else "beyond it the spectrum departs from the power law (a roll-off, filter or noise)"
     )
     long = (
-        ("fewer than 6 independent modes per bin beyond it" if p.lost_long else "the measurement's longest wavelength")
+        (
+            f"fewer than {MIN_MODES} independent modes per bin beyond it"
+            if p.lost_long
+            else "the measurement's longest wavelength"
+        )
         if i == 0
         else "beyond it the spectrum departs from the power law"
     )
@@ -275,6 +321,7 @@ def select_band(
         floor=p.floor,
         ends=(long, short),
         bins=j + 1 - i,
+        points=(p.q[i : j + 1], p.y[i : j + 1] - kappa * p.u[i : j + 1], p.w[i : j + 1]),
     )
 
 
@@ -284,7 +331,7 @@ def fit_band(spectrum: Spectrum, band_q: tuple[float, float], slope: float | Non
     inside = (spectrum.q >= band_q[0]) & (spectrum.q <= band_q[1]) & (spectrum.C > 0)
     if inside.sum() < 4:
         return None
-    p = _prepared(spectrum.q[inside], spectrum.C[inside], spectrum.modes[inside], spectrum.scatter)
+    p = _prepared(spectrum.q[inside], spectrum.C[inside], spectrum.modes[inside], spectrum.scatter[inside])
     theta, covariance, _ = _fit(p, 0, p.x.size - 1, False, slope)
     ends = ("set by the user", "set by the user")
     return PowerLaw(

@@ -20,8 +20,9 @@ def widened(covariance: np.ndarray, bias: float) -> np.ndarray:
     return covariance + bias**2 * np.outer(direction, direction)
 
 
-def with_covariance(c, covariance: np.ndarray, note: str):
-    """`c` with its intervals from `covariance` and `note` among its diagnostics."""
+def with_covariance(c, covariance: np.ndarray, note: str, power_law=None):
+    """`c` with its intervals from `covariance` (and the power law's, if given) and `note` among its
+    diagnostics."""
     t = stats.t.ppf(0.975, c.dof)
     se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
     return dataclasses.replace(
@@ -34,6 +35,7 @@ def with_covariance(c, covariance: np.ndarray, note: str):
         },
         correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])),
         diagnostics=c.diagnostics + (note,),
+        power_law=c.power_law if power_law is None else power_law,
     )
 
 
@@ -50,7 +52,12 @@ def compared(psd, structure_function):
         f"{structure_function.band[0]:.3g}-{structure_function.band[1]:.3g} m); the surface is not one power law over "
         "both bands, and the PSD's intervals include half the difference"
     )
-    return with_covariance(psd, widened(psd.covariance, difference / 2), note)
+    power_law = None
+    if psd.power_law is not None:
+        # The slope is -(6 - 2D) or -(5 - 2D): a shift of D by b moves it by 2b.
+        slope, intercept, native = psd.power_law
+        power_law = (slope, intercept, widened(native, difference))
+    return with_covariance(psd, widened(psd.covariance, difference / 2), note, power_law)
 
 
 # A D interval wider than this (standard error) says the band hardly determines D.

@@ -141,4 +141,5 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
         rolloff=law.rolloff,
         floor=law.floor,
         local_slope=_q_and_D(local_slopes(spectrum)),
+        power_law=(law.slope, law.intercept, law.covariance),
     )

@@ -28,7 +28,8 @@ class Characterisation:
     None); `ends` (why the band's long and short end lie where they do); `rolloff` (σ in m of a
     Gaussian transfer function `exp(-(qσ)²)` corrected in the band, or None); `floor` (a white noise
     level of the spectrum subtracted, or 0); `local_slope` (q and the local D along the spectrum,
-    for the plot, or None).
+    for the plot, or None); `power_law` (the fitted `ln C = intercept + slope ln q` as (slope,
+    intercept, their covariance), where the region of `covers` is formed, or None).
     """
 
     D: float
@@ -53,6 +54,7 @@ class Characterisation:
     rolloff: float | None = None
     floor: float = 0.0
     local_slope: tuple[np.ndarray, np.ndarray] | None = None
+    power_law: tuple[float, float, np.ndarray] | None = None
 
     @property
     def surface(self):
@@ -63,9 +65,24 @@ class Characterisation:
         """Whether (D, G) lies inside the joint `level` confidence region (Hotelling's T² with `dof`:
         over the groups, `dof` = groups − 1; for the whole spectrum's fit it tends to χ²₂)."""
         n = self.dof
-        difference = np.array([D - self.D, math.log(G) - math.log(self.G)])
-        t2 = difference @ np.linalg.solve(self.covariance, difference)
+        if self.power_law is not None and self.covariance[0, 0] > 1e-200:
+            # In the fit's own coordinates, where the region is an ellipse: (D, ln G) is a nonlinear
+            # map of them (ln G ∝ 1/(D - 1)), which a linearised ellipse misdescribes far from D.
+            slope, intercept, covariance = self.power_law
+            difference = np.array([self._slope(D) - slope, self._log_prefactor(D, G) - intercept])
+        else:
+            covariance = self.covariance
+            difference = np.array([D - self.D, math.log(G) - math.log(self.G)])
+        t2 = difference @ np.linalg.solve(covariance, difference)
         return bool(t2 <= 2 * n / (n - 1) * stats.f.ppf(level, 2, n - 1))
+
+    def _slope(self, D):
+        return -((6.0 if self.kind == "areal" else 5.0) - 2.0 * D)
+
+    def _log_prefactor(self, D, G):
+        from ._conventions import areal_prefactor, profile_prefactor
+
+        return math.log((areal_prefactor if self.kind == "areal" else profile_prefactor)(D, G))
 
     def scene_fragment(self) -> str:
         """The `[surface]` table of a scene file, with where each value came from."""

@@ -27,16 +27,18 @@ HANN_VARIANCE_FACTOR = 1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0)
 @dataclasses.dataclass(frozen=True)
 class Spectrum:
     """A binned spectrum: `q` (rad/m, the bins' geometric means), `C` (mean periodogram, m⁴ areal
-    or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (the variance of one mode's
-    periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
-    measurement of a Gaussian surface); `kind` ("areal" or "profile"); `spacing` (m)."""
+    or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (per bin, the variance of one
+    mode's periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
+    measurement of a Gaussian surface); `kind` ("areal" or "profile"); `spacing` (m); `q_squared` (the
+    bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q)."""
 
     q: np.ndarray
     C: np.ndarray
     modes: np.ndarray
-    scatter: float
+    scatter: np.ndarray
     kind: str
     spacing: float
+    q_squared: np.ndarray | None = None
 
     @property
     def log_variance(self) -> np.ndarray:
@@ -97,19 +99,33 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
     mean = np.bincount(index, w * c, count)[keep] / total[keep]
     square = np.bincount(index, w * c * c, count)[keep] / total[keep]
     log_q = np.bincount(index, w * np.log(q.ravel()[inside]), count)[keep] / total[keep]
+    q_squared = np.bincount(index, w * q.ravel()[inside] ** 2, count)[keep] / total[keep]
     modes = total[keep] / 2.0
-    # One mode's relative variance from the bins' own scatter (1 for a Gaussian field's exponential
-    # periodogram; other syntheses differ), robust to the few bins a kink in the spectrum crosses.
-    populated = modes >= 8
-    relative = square[populated] / np.maximum(mean[populated], 1e-300) ** 2 - 1.0
-    scatter = float(np.median(relative)) if populated.any() else 1.0
+    scatter = _running_scatter(square / np.maximum(mean, 1e-300) ** 2 - 1.0, modes)
     if not periodic:
-        scatter *= HANN_VARIANCE_FACTOR**heights.ndim
+        scatter = scatter * HANN_VARIANCE_FACTOR**heights.ndim
     return Spectrum(
         q=np.exp(log_q),
         C=mean,
         modes=modes,
-        scatter=max(scatter, 1e-3),
+        scatter=np.maximum(scatter, 1e-3),
         kind="areal" if heights.ndim == 2 else "profile",
         spacing=spacing,
+        q_squared=q_squared,
     )
+
+
+def _running_scatter(relative: np.ndarray, modes: np.ndarray, half_width: int = BINS_PER_DECADE // 2) -> np.ndarray:
+    """One mode's relative variance per bin, from the bins' own scatter: the median over ±half a decade
+    of bins with enough modes to tell (1 for a Gaussian field's exponential periodogram; it differs
+    where the spectrum is made otherwise, and can differ between a surface's band and its noise)."""
+    populated = np.flatnonzero(modes >= 8)
+    if populated.size == 0:
+        return np.ones_like(relative)
+    result = np.empty_like(relative)
+    for k in range(relative.size):
+        near = populated[np.abs(populated - k) <= half_width]
+        if near.size == 0:  # few-mode bins at the long end: the nearest populated ones
+            near = populated[np.argsort(np.abs(populated - k))[:half_width]]
+        result[k] = np.median(relative[near])
+    return result

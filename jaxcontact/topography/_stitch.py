@@ -1,0 +1,128 @@
+"""One surface measured several times (a stylus profile and an optical map at two magnifications): each
+measurement's spectrum in its own power-law band, joined, and one W-M power law fitted over the union
+(docs/topography.md, "Several measurements of one surface")."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import optimize, special, stats
+
+from ..numerics._validate import InputError
+from . import _spectra as spectra
+from ._band import CALIBRATION, local_slopes, select_band
+from ._conventions import GAMMA, convert_G
+from ._psd import NoBandError, _q_and_D
+from ._result import Characterisation
+from ._whole import whole_spectrum
+
+
+def _log_prefactor(kind: str, D: float, log_G: float) -> float:
+    """ln K1 of `C1D = K1 q^-(5-2D)` (profile) or ln C0 of `C2D = C0 q^-(6-2D)` (areal), docs/model.md §8."""
+    log_K1 = 2 * (D - 1) * log_G + (5 - 2 * D) * math.log(2 * math.pi) - math.log(4 * math.log(GAMMA))
+    if kind == "profile":
+        return log_K1
+    return log_K1 + math.log(2 * math.sqrt(math.pi)) + special.gammaln(3 - D) - special.gammaln(2.5 - D)
+
+
+def _measured(topography, index: int):
+    rows, dx, _, periodic, kind = spectra.rows_of(topography)
+    spectrum = whole_spectrum(rows[0] if kind == "profile" else rows.T, dx, periodic)
+    cutoff = topography.short_reliability_cutoff()
+    law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff)
+    if not hasattr(law, "slope"):
+        raise NoBandError(
+            f"measurement {index + 1} has no power-law band of its own to join (characterise it alone to see why)",
+            spectrum,
+            _q_and_D(local_slopes(spectrum)),
+            law,
+        )
+    return kind, spectrum, law
+
+
+def characterise_stitched(topographies) -> Characterisation:
+    """D, G and l_min from several measurements of one surface: each in its own band (as `characterise`
+    finds it, floor and roll-off taken out), one power law in (D, ln G) over all their bins, profiles'
+    `C1D` and maps' `C2D` each with its own prefactor. The covariance is the weighted least-squares
+    one (scaled by χ²/ν where above 1) plus, per measurement, a 1 % uncertainty of its height scale and
+    the change when its band's short end moves in by a factor 2.
+
+    **Arguments:** `topographies`, two or more SurfaceTopography line scans or maps in metres.
+    **Returns:** a `Characterisation` (method "psd", kind "stitched" where kinds differ).
+    """
+    if len(topographies) < 2:
+        raise InputError(f"topographies: {len(topographies)} given; stitching needs at least 2 measurements")
+    measured = [_measured(t, k) for k, t in enumerate(topographies)]
+    kinds = [m[0] for m in measured]
+    points = [(kind, *law.points) for kind, _, law in measured]
+
+    def residuals(theta, shifts=None, trimmed=-1):
+        D, log_G = theta
+        out = []
+        for m, (kind, q, y, w) in enumerate(points):
+            slope = -((6.0 if kind == "areal" else 5.0) - 2.0 * D)
+            model = _log_prefactor(kind, D, log_G) + slope * np.log(q)
+            # The band's own systematic, as for one measurement: its short end moved in by a factor 2.
+            kept = q <= q[-1] / 2 if m == trimmed else np.ones(q.size, bool)
+            out.append(np.sqrt(w) * (y + (0.0 if shifts is None else shifts[m]) - model) * kept)
+        return np.concatenate(out)
+
+    first_kind, first_spectrum, first = measured[0]
+    D0 = float(np.clip(first_spectrum.D_of(first.slope), 1.05, 1.95))
+    # ln prefactor = its value at G = 1 m + 2 (D - 1) ln G.
+    start = [D0, (first.intercept - _log_prefactor(first_kind, D0, 0.0)) / (2 * (D0 - 1))]
+    bounds = ([1.0 + 1e-6, -np.inf], [2.0 - 1e-6, np.inf])
+    fit = optimize.least_squares(residuals, start, bounds=bounds, x_scale=[0.1, 1.0])
+    D_hat, log_G_hat = fit.x
+    n = fit.fun.size
+    chi2 = 2 * fit.cost
+    covariance = np.linalg.inv(fit.jac.T @ fit.jac) * max(1.0, chi2 / (n - 2))
+    for m in range(len(points)):
+        for args in ((np.eye(len(points))[m] * CALIBRATION,), (None, m)):
+            moved = optimize.least_squares(residuals, fit.x, bounds=bounds, x_scale=[0.1, 1.0], args=args).x - fit.x
+            covariance = covariance + np.outer(moved, moved)
+    diagnostics = ()
+    if chi2 / (n - 2) > 3:
+        diagnostics += (
+            f"the measurements do not join into one power law (χ²/ν = {chi2 / (n - 2):.3g}): their height scales, "
+            "their lateral calibrations or the surfaces measured differ; the intervals include the misfit",
+        )
+    dof = max(n - 2, 2)
+    t = stats.t.ppf(0.975, dof)
+    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
+    G_hat = math.exp(log_G_hat)
+    shortest = min(2 * math.pi / law.band[1] for _, _, law in measured)
+    longest = max(2 * math.pi / law.band[0] for _, _, law in measured)
+    q_all = np.concatenate([q for _, q, _, _ in points])
+    C_all = np.exp(np.concatenate([y for _, _, y, _ in points]))
+    fit_q = np.geomspace(q_all.min(), q_all.max(), 50)
+    exponent = (6.0 if first_kind == "areal" else 5.0) - 2 * D_hat
+    fit_C = np.exp(_log_prefactor(first_kind, D_hat, log_G_hat) - exponent * np.log(fit_q))
+    return Characterisation(
+        D=float(D_hat),
+        G=G_hat,
+        G_structure_function=float(convert_G(G_hat, D_hat)),
+        l_min=shortest,
+        band=(shortest, longest),
+        method="psd",
+        stderr={"D": se_D, "G": G_hat * se_logG},
+        ci95={
+            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
+            "G": tuple(G_hat * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
+        },
+        covariance=covariance,
+        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])),
+        groups=len(points),
+        estimates=np.array([[float(s.D_of(law.slope)), math.nan] for _, s, law in measured]),
+        spectrum=(q_all, C_all),
+        fit=(fit_q, fit_C),
+        diagnostics=diagnostics,
+        kind=kinds[0] if len(set(kinds)) == 1 else "stitched",
+        reliability_cutoff=None,
+        dof=dof,
+        ends=(
+            "the longest band's long end among the measurements",
+            "the shortest band's short end among the measurements",
+        ),
+    )
