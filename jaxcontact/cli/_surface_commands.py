@@ -31,8 +31,8 @@ def add_topography_options(p) -> None:
         type=float,
         nargs=2,
         metavar=("SHORT", "LONG"),
-        help="fit band, wavelengths in m (default: from 10 grid spacings, or the tip's cutoff if longer, to a "
-        "quarter of a tile or segment)",
+        help="fit band, wavelengths in m (default: the widest band where the spectrum is a power law, found from "
+        "the data; docs/topography.md)",
     )
     p.add_argument(
         "--fill-undefined",
@@ -42,8 +42,8 @@ def add_topography_options(p) -> None:
     p.add_argument(
         "--groups",
         type=int,
-        help="independent groups for the uncertainty (default: 16 tiles for maps of 1024 points a side or more, "
-        "9 below; 8 segments for profiles)",
+        help="independent groups for the structure function's uncertainty (default: 16 blocks of line scans of "
+        "a map, 8 segments of a profile)",
     )
 
 

@@ -30,8 +30,9 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import optimize, special
+from scipy import special
 
+from ._floor import noise_floor
 from ._whole import Spectrum
 
 MIN_MODES = 3
@@ -41,12 +42,8 @@ Z = 3.0
 SYSTEMATIC = 0.01
 # Nor is an instrument's height scale known to better than about 1 %: 2 % in C, the same at every q.
 CALIBRATION = 0.02
-# The floor is sought in the spectrum's top decade and a half, under a power law steeper than D = 2's
-# slope (-2 areal, -1 profile) less this; a top that is flatter than D = 2's plus this is all floor.
-FLOOR_DECADES = 1.5
 FLOOR_MARGIN_SLOPE = 0.2
 FLOOR_MARGIN = 2.0
-ROUND_OFF = 1e-16
 ROLLOFF_CAP = 4.0
 ROLLOFF_GAIN = 1.25
 TRIM = math.log(2.0)
@@ -97,7 +94,7 @@ def _prepare(spectrum: Spectrum, q_max: float | None) -> _Prepared | None:
     q2 = (spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[keep]
     if q.size < 5:
         return None
-    floor = _noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
+    floor = noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
     if floor > 0:
         above = C > FLOOR_MARGIN * floor
         q, C, modes, scatter, q2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above]
@@ -106,51 +103,6 @@ def _prepare(spectrum: Spectrum, q_max: float | None) -> _Prepared | None:
             return None
     lost_long = bool(spectrum.modes[0] < MIN_MODES)
     return _prepared(q, C, modes, scatter, floor, lost_long, short_cause, q2)
-
-
-def _noise_floor(q, C, modes, scatter, flattest: float) -> float:
-    """The white noise level of the spectrum's short end, or 0 where there is none.
-
-    `C = A q^b + N` is fitted over the top `FLOOR_DECADES` (log residuals, weighted by the bins' own
-    scatter), and over twice that where the floor covers the whole top; a floor is kept when it
-    lowers χ² by more than `Z²` against `C = A q^b` and lies below the bins (a spectrum that flattens
-    at its short end, where a roll-off would steepen it). A top octave that is flat already (slope
-    above `flattest`) is the floor: its mean."""
-    for decades in (FLOOR_DECADES, 2 * FLOOR_DECADES):
-        floor = _fitted_floor(q, C, modes, scatter, decades, flattest)
-        # Far below the spectrum's top, a "floor" is the FFT's round-off under a steep roll-off.
-        if floor > ROUND_OFF * C.max():
-            return floor
-    top = q >= q[-1] / 2
-    if top.sum() >= 3 and np.polyfit(np.log(q[top]), np.log(C[top]), 1)[0] > flattest:
-        return float(np.average(C[top], weights=modes[top]))
-    return 0.0
-
-
-def _fitted_floor(q, C, modes, scatter, decades: float, flattest: float) -> float:
-    top = q >= q[-1] / 10**decades
-    if top.sum() < 6:
-        return 0.0
-    x, y, w = np.log(q[top]), np.log(C[top]), np.sqrt(modes[top] / scatter[top])
-    line = np.polyfit(x, y, 1, w=w)
-    chi2_line = float(np.sum((w * (y - np.polyval(line, x))) ** 2))
-
-    def residuals(theta):
-        return w * (np.logaddexp(theta[0] + theta[1] * x, theta[2]) - y)
-
-    # Started from a floor at the smallest bin and the power law of the lower half of the range.
-    lower = x <= np.median(x)
-    start = np.polyfit(x[lower], y[lower], 1, w=w[lower])
-    fit = optimize.least_squares(residuals, [start[1], start[0], float(y.min())], method="lm")
-    slope, log_floor = fit.x[1], fit.x[2]
-    if not (
-        fit.success
-        and chi2_line - 2 * fit.cost > Z**2
-        and slope < flattest - 2 * FLOOR_MARGIN_SLOPE
-        and log_floor < y.max()
-    ):
-        return 0.0
-    return float(np.exp(log_floor))
 
 
 def _prepared(q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="", q_squared=None) -> _Prepared:
@@ -337,15 +289,3 @@ def fit_band(spectrum: Spectrum, band_q: tuple[float, float], slope: float | Non
     return PowerLaw(
         float(theta[0]), float(theta[1]), covariance, (float(p.q[0]), float(p.q[-1])), None, 0.0, ends, p.x.size
     )
-
-
-def local_slopes(spectrum: Spectrum, half_width: float = 0.25):
-    """The log-log slope of `spectrum` over ±`half_width` decades around each bin: (q, slope, D)."""
-    x, y = np.log(spectrum.q), np.log(np.maximum(spectrum.C, 1e-300))
-    w = spectrum.modes
-    slopes = np.full(x.size, np.nan)
-    for k in range(x.size):
-        near = (np.abs(x - x[k]) <= half_width * math.log(10)) & (spectrum.C > 0)
-        if near.sum() >= 3:
-            slopes[k] = np.polyfit(x[near], y[near], 1, w=np.sqrt(w[near]))[0]
-    return spectrum.q, slopes, spectrum.D_of(slopes)

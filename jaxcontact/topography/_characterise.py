@@ -10,21 +10,20 @@ from scipy import stats
 
 from ..numerics._validate import InputError, assigned, check_choice, spelled
 from . import _spectra as spectra
-from ._checks import implausible, widened
+from ._checks import implausible, widened_for_filling
 from ._conventions import convert_G, structure_function_constant
 from ._psd import characterise_spectrum
 from ._result import Characterisation
 
 METHODS = ("psd", "structure-function")
-# The shortest wavelength fitted, in grid spacings: near the grid's Nyquist wavelength the line
-# scans of a band-limited areal map lose the part of their spectrum beyond the grid (the
-# qy-integral is truncated), and windowing leaks power there.
+# The structure function's band: from this many grid spacings (near the grid, a roll-off or filter
+# bends it first) to a fraction of a group's scan. The structure function of a finite, detrended
+# scan falls below the power law at lags that are a sizeable fraction of it (10-30 % at a sixteenth
+# for D = 1.3), so its band stops far short of the scan; where that leaves less than the factor 4 a
+# fit needs, it reaches to a quarter of it.
 SHORTEST_IN_PIXELS = 10
-# The longest wavelength fitted, as a fraction of a group's scan length: a few wavelengths must
-# fit in every segment for its spectrum to be an estimate.
-LONGEST_FRACTION = {"psd": 0.25, "structure-function": 0.02}
-# (The structure function of a finite, detrended scan falls below the power law at lags that are
-# a sizeable fraction of it, by 10-30 % at a sixteenth for D = 1.3: its band stops far shorter.)
+LONGEST_FRACTION = 0.02
+WIDEST_FRACTION = 0.25
 
 
 def characterise(topography, *, band=None, method: str = "psd", groups: int | None = None, D=None):
@@ -62,7 +61,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         cutoff = topography.short_reliability_cutoff()
         c = characterise_spectrum(topography, heights, dx, periodic, kind, band, D, cutoff)
         return dataclasses.replace(c, diagnostics=c.diagnostics + implausible(float(np.std(rows)), c))
-    blocks = spectra.groups_of(rows, groups, kind, method)
+    blocks = spectra.groups_of(rows, groups, kind)
     periodic = periodic and len(blocks) == 1
     if len(blocks) < 3:
         raise InputError(f"{assigned('groups', str(len(blocks)))}: at least 3 independent groups are needed")
@@ -70,9 +69,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     cutoff = topography.short_reliability_cutoff()
     shortest = max(SHORTEST_IN_PIXELS * dx, cutoff or 0.0)
     if band is None:
-        longest = LONGEST_FRACTION[method] * segment
-        if method == "structure-function":  # at least the factor 4 a fit needs, where the segment allows it
-            longest = min(max(longest, 4 * shortest), LONGEST_FRACTION["psd"] * segment)
+        longest = min(max(LONGEST_FRACTION * segment, 4 * shortest), WIDEST_FRACTION * segment)
         if longest < 4 * shortest:
             raise InputError(
                 f"the {'profile' if kind == 'profile' else 'map'} is too small for any power-law band: "
@@ -128,7 +125,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     diagnostics = _diagnostics(log_x, log_y, mean_y, slope_of(D_hat), estimates)
     filled = float(topography.info.get("filled_fraction", 0.0))
     if filled > 0:
-        covariance, note = _widened_for_filling(covariance, filled, held=D is not None)
+        covariance, note = widened_for_filling(covariance, filled, held=D is not None)
         diagnostics += (note,)
     t = stats.t.ppf(0.975, n - 1)
     se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
@@ -150,7 +147,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
         groups=n,
         estimates=estimates,
-        spectrum=spectra.full_spectrum(blocks, dx, periodic, method),
+        spectrum=spectra.full_structure_function(blocks, dx),
         fit=(fit_x, np.exp(intercept + slope_of(D_hat) * np.log(fit_x))),
         diagnostics=diagnostics,
         kind=kind,
@@ -180,21 +177,6 @@ def _checked_band(band, dx: float, longest: float, kind: str, points: int) -> tu
 def _band(band) -> str:
     short, long = band[:2] if len(band) >= 2 else (band + (math.nan, math.nan))[:2]
     return assigned("band", spelled(f"({short:.3g}, {long:.3g})", f"{short:.3g} {long:.3g}")) + " m"
-
-
-def _widened_for_filling(covariance, filled: float, held: bool):
-    """The covariance of (D, ln G) with the bias that filling `filled` of the points can cause
-    (`read`'s `FILL_BIAS_PER_FRACTION`, D low and ln G along its regression on D) added as a
-    systematic term; and the diagnostic that says so."""
-    from ._read import FILL_BIAS_PER_FRACTION
-
-    bias = FILL_BIAS_PER_FRACTION * filled
-    if held:
-        return covariance, f"{100 * filled:.2g} % of the points were filled by interpolation: G may be low"
-    return widened(covariance, bias), (
-        f"{100 * filled:.2g} % of the points were filled by interpolation, which can bias D low by up to "
-        f"{bias:.2g} (and G with it): the intervals include that"
-    )
 
 
 def _diagnostics(log_x, log_y, mean_y, slope, estimates) -> tuple[str, ...]:

@@ -8,8 +8,6 @@ import math
 import numpy as np
 from scipy import stats
 
-# Instruments of surface roughness (stylus, optical, AFM) measure rms heights in this range (m).
-RMS_RANGE = (1e-10, 1e-4)
 # A G (W-M, m) beyond this is an extrapolation no band supports (machined surfaces: 1e-14 to 1e-8 m).
 G_RANGE = (1e-20, 1e-3)
 
@@ -67,6 +65,8 @@ POOR_D = 0.1
 def implausible(rms: float, c) -> tuple[str, ...]:
     """Diagnostics for an rms height or a G outside what instruments measure (a unit mistaken?), and
     for a D the band hardly determines."""
+    from ._read import TYPICAL_RMS_HEIGHT as RMS_RANGE
+
     notes = []
     if c.stderr["D"] > POOR_D:
         notes.append(
@@ -85,3 +85,18 @@ def implausible(rms: float, c) -> tuple[str, ...]:
             f"{G_RANGE[1]:g} m: G is extrapolated far from the band (to q = 1 rad/m) and is poorly determined here"
         )
     return tuple(notes)
+
+
+def widened_for_filling(covariance, filled: float, held: bool):
+    """The covariance of (D, ln G) with the bias that filling `filled` of the points can cause
+    (`read`'s `FILL_BIAS_PER_FRACTION`, D low and ln G along its regression on D) added as a
+    systematic term; and the diagnostic that says so."""
+    from ._read import FILL_BIAS_PER_FRACTION
+
+    bias = FILL_BIAS_PER_FRACTION * filled
+    if held:
+        return covariance, f"{100 * filled:.2g} % of the points were filled by interpolation: G may be low"
+    return widened(covariance, bias), (
+        f"{100 * filled:.2g} % of the points were filled by interpolation, which can bias D low by up to "
+        f"{bias:.2g} (and G with it): the intervals include that"
+    )

@@ -9,10 +9,11 @@ import numpy as np
 from scipy import special, stats
 
 from ..numerics._validate import InputError, spelled
-from ._band import MIN_MODES, MIN_RATIO, fit_band, local_slopes, select_band
+from ._band import MIN_MODES, MIN_RATIO, fit_band, select_band
+from ._checks import widened_for_filling
 from ._conventions import convert_G, log_G_from_profile_prefactor
 from ._result import Characterisation
-from ._whole import whole_spectrum
+from ._whole import local_slopes, whole_spectrum
 
 
 class NoBandError(InputError):
@@ -105,9 +106,7 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
     diagnostics = ()
     filled = float(topography.info.get("filled_fraction", 0.0))
     if filled > 0:
-        from ._characterise import _widened_for_filling
-
-        covariance, note = _widened_for_filling(covariance, filled, held=D is not None)
+        covariance, note = widened_for_filling(covariance, filled, held=D is not None)
         diagnostics += (note,)
     dof = max(law.bins - 2, 2)
     t = stats.t.ppf(0.975, dof)

@@ -10,8 +10,6 @@ scan is not periodic; `tests/test_topography.py` checks it against
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 DETREND_DEGREE = 3
@@ -106,33 +104,14 @@ def rows_of(topography):
     return heights.T, length / heights.shape[0], length, bool(topography.is_periodic), "areal"
 
 
-def groups_of(rows, groups: int | None, kind: str, method: str):
-    """Independent groups: square-ish tiles of an areal map (each a block of short line scans:
-    blocks of whole scans would share every wavelength longer than the block is tall; the
-    structure function's short lags allow blocks of whole scans), or segments of a profile."""
-    if kind == "areal" and method == "structure-function":
-        return np.array_split(rows, min(groups or 16, rows.shape[0]), axis=0)
+def groups_of(rows, groups: int | None, kind: str):
+    """Independent groups for the structure function: blocks of whole line scans of an areal map (its
+    short lags do not reach across a block), or segments of a profile."""
     if kind == "areal":
-        # 4 × 4 tiles, or 3 × 3 where tiles of a quarter of the map would be under 256 points wide.
-        default = 16 if min(rows.shape) >= 1024 else 9
-        per_side = max(int(round(math.sqrt(groups or default))), 1)
-        # Equal tiles (the remainder dropped), so that every tile has the same wavevectors.
-        tall, wide = rows.shape[0] // per_side, rows.shape[1] // per_side
-        return [
-            rows[i * tall : (i + 1) * tall, j * wide : (j + 1) * wide] for i in range(per_side) for j in range(per_side)
-        ]
+        return np.array_split(rows, min(groups or 16, rows.shape[0]), axis=0)
     count = groups or 8
     usable = rows.shape[1] - rows.shape[1] % count
     return list(rows[:, :usable].reshape(count, -1)[:, None, :])
-
-
-def binned_psd(blocks, dx, periodic, band):
-    binned = []
-    for block in blocks:
-        q, C = periodograms(block, dx, periodic)
-        centres, means, counts = log_bins(q, C.mean(axis=0), 2 * math.pi / band[1], 2 * math.pi / band[0], counts=True)
-        binned.append(means)
-    return centres, np.array(binned), counts
 
 
 def binned_structure_function(blocks, dx, band):
@@ -144,10 +123,8 @@ def binned_structure_function(blocks, dx, band):
     return centres, np.array(binned), np.ones(len(centres))
 
 
-def full_spectrum(blocks, dx, periodic, method):
-    if method == "psd":
-        spectra_ = [periodograms(block, dx, periodic) for block in blocks]
-        return spectra_[0][0], np.mean([C.mean(axis=0) for _, C in spectra_], axis=0)
+def full_structure_function(blocks, dx):
+    """The groups' mean structure function up to half a group's scan."""
     lag = blocks[0].shape[1] // 2
     curves = [structure_functions(block, dx, lag) for block in blocks]
     return curves[0][0], np.mean([S.mean(axis=0) for _, S in curves], axis=0)

@@ -11,11 +11,11 @@ from scipy import optimize, special, stats
 
 from ..numerics._validate import InputError
 from . import _spectra as spectra
-from ._band import CALIBRATION, local_slopes, select_band
+from ._band import CALIBRATION, select_band
 from ._conventions import GAMMA, convert_G
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
-from ._whole import whole_spectrum
+from ._whole import local_slopes, whole_spectrum
 
 
 def _log_prefactor(kind: str, D: float, log_G: float) -> float:

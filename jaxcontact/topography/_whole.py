@@ -129,3 +129,15 @@ def _running_scatter(relative: np.ndarray, modes: np.ndarray, half_width: int = 
             near = populated[np.argsort(np.abs(populated - k))[:half_width]]
         result[k] = np.median(relative[near])
     return result
+
+
+def local_slopes(spectrum: Spectrum, half_width: float = 0.25):
+    """The log-log slope of `spectrum` over ±`half_width` decades around each bin: (q, slope, D)."""
+    x, y = np.log(spectrum.q), np.log(np.maximum(spectrum.C, 1e-300))
+    w = spectrum.modes
+    slopes = np.full(x.size, np.nan)
+    for k in range(x.size):
+        near = (np.abs(x - x[k]) <= half_width * math.log(10)) & (spectrum.C > 0)
+        if near.sum() >= 3:
+            slopes[k] = np.polyfit(x[near], y[near], 1, w=np.sqrt(w[near]))[0]
+    return spectrum.q, slopes, spectrum.D_of(slopes)
