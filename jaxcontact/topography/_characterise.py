@@ -6,12 +6,11 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import stats
 
 from ..numerics._validate import InputError, assigned, check_choice, spelled
 from . import _spectra as spectra
 from ._checks import implausible, widened_for_filling
-from ._conventions import convert_G, structure_function_constant
+from ._conventions import structure_function_constant
 from ._psd import characterise_spectrum
 from ._result import Characterisation
 
@@ -119,32 +118,20 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         )
     n = int(usable.sum())
     covariance = np.cov(estimates[usable].T) / n
-    if D is not None:
-        covariance[0, :] = covariance[:, 0] = 0.0
-        covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
     diagnostics = _diagnostics(log_x, log_y, mean_y, slope_of(D_hat), estimates)
     filled = float(topography.info.get("filled_fraction", 0.0))
     if filled > 0:
         covariance, note = widened_for_filling(covariance, filled, held=D is not None)
         diagnostics += (note,)
-    t = stats.t.ppf(0.975, n - 1)
-    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
-    G_hat = math.exp(log_G_hat)
     fit_x = np.geomspace(x[0], x[-1], 50)
-    return Characterisation(
-        D=D_hat,
-        G=G_hat,
-        G_structure_function=float(convert_G(G_hat, D_hat)),
-        l_min=band[0],
-        band=band,
-        method=method,
-        stderr={"D": se_D, "G": G_hat * se_logG},
-        ci95={
-            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
-            "G": (G_hat * math.exp(-t * se_logG), G_hat * math.exp(t * se_logG)),
-        },
-        covariance=covariance,
-        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
+    return Characterisation.fitted(
+        method,
+        D_hat,
+        log_G_hat,
+        band,
+        covariance,
+        n - 1,
+        held=D is not None,
         groups=n,
         estimates=estimates,
         spectrum=spectra.full_structure_function(blocks, dx),
@@ -152,7 +139,6 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         diagnostics=diagnostics,
         kind=kind,
         reliability_cutoff=cutoff,
-        dof=n - 1,
     )
 
 

@@ -6,7 +6,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import stats
 
 # A G (W-M, m) beyond this is an extrapolation no band supports (machined surfaces: 1e-14 to 1e-8 m).
 G_RANGE = (1e-20, 1e-3)
@@ -21,17 +20,12 @@ def widened(covariance: np.ndarray, bias: float) -> np.ndarray:
 def with_covariance(c, covariance: np.ndarray, note: str, power_law=None):
     """`c` with its intervals from `covariance` (and the power law's, if given) and `note` among its
     diagnostics."""
-    t = stats.t.ppf(0.975, c.dof)
-    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
+    from ._result import intervals
+
     return dataclasses.replace(
         c,
+        **intervals(c.D, c.G, covariance, c.dof),
         covariance=covariance,
-        stderr={"D": se_D, "G": c.G * se_logG},
-        ci95={
-            "D": (max(c.D - t * se_D, 1.0), min(c.D + t * se_D, 2.0)),
-            "G": tuple(c.G * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
-        },
-        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])),
         diagnostics=c.diagnostics + (note,),
         power_law=c.power_law if power_law is None else power_law,
     )

@@ -6,12 +6,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import special, stats
+from scipy import special
 
 from ..numerics._validate import InputError, spelled
 from ._band import MIN_MODES, MIN_RATIO, fit_band, select_band
 from ._checks import widened_for_filling
-from ._conventions import convert_G, log_G_from_profile_prefactor
+from ._conventions import log_G_from_profile_prefactor
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
 
@@ -100,34 +100,21 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
             f"{spelled('band=(short, long)', '--band SHORT LONG')})"
         )
     covariance = _covariance(spectrum, law)
-    if D is not None:
-        covariance[0, :] = covariance[:, 0] = 0.0
-        covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
     diagnostics = ()
     filled = float(topography.info.get("filled_fraction", 0.0))
     if filled > 0:
         covariance, note = widened_for_filling(covariance, filled, held=D is not None)
         diagnostics += (note,)
     dof = max(law.bins - 2, 2)
-    t = stats.t.ppf(0.975, dof)
-    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
-    G_hat = math.exp(log_G_hat)
-    shortest, longest = 2 * math.pi / law.band[1], 2 * math.pi / law.band[0]
     fit_q = np.geomspace(*law.band, 50)
-    return Characterisation(
-        D=D_hat,
-        G=G_hat,
-        G_structure_function=float(convert_G(G_hat, D_hat)),
-        l_min=shortest,
-        band=(shortest, longest),
-        method="psd",
-        stderr={"D": se_D, "G": G_hat * se_logG},
-        ci95={
-            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
-            "G": tuple(G_hat * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
-        },
-        covariance=covariance,
-        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])) if D is None else 0.0,
+    return Characterisation.fitted(
+        "psd",
+        D_hat,
+        log_G_hat,
+        (2 * math.pi / law.band[1], 2 * math.pi / law.band[0]),
+        covariance,
+        dof,
+        held=D is not None,
         groups=1,
         estimates=np.array([[D_hat, log_G_hat]]),
         spectrum=(spectrum.q, spectrum.C),
@@ -135,7 +122,6 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
         diagnostics=diagnostics,
         kind=kind,
         reliability_cutoff=cutoff,
-        dof=dof,
         ends=law.ends,
         rolloff=law.rolloff,
         floor=law.floor,

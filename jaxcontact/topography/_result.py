@@ -56,6 +56,31 @@ class Characterisation:
     local_slope: tuple[np.ndarray, np.ndarray] | None = None
     power_law: tuple[float, float, np.ndarray] | None = None
 
+    @classmethod
+    def fitted(cls, method: str, D: float, log_G: float, band, covariance, dof: int, held: bool = False, **rest):
+        """A characterisation by `method` of (D, ln G) over `band` (short, long wavelength, m; l_min its
+        short end), its intervals from `covariance` of (D, ln G) with `dof` (D's row and column zero
+        where it was `held`); `rest` the other fields."""
+        from ._conventions import convert_G
+
+        G = math.exp(log_G)
+        if held:
+            covariance = covariance.copy()
+            covariance[0, :] = covariance[:, 0] = 0.0
+            covariance[0, 0] = 1e-300  # held, not estimated; keeps the matrix invertible for `covers`
+        return cls(
+            D=D,
+            G=G,
+            G_structure_function=float(convert_G(G, D)),
+            l_min=band[0],
+            band=band,
+            method=method,
+            **intervals(D, G, covariance, dof, held),
+            covariance=covariance,
+            dof=dof,
+            **rest,
+        )
+
     @property
     def surface(self):
         """The `jaxcontact.Surface` (D, G, l_min) for a scene."""
@@ -97,3 +122,19 @@ class Characterisation:
             f"l_min = {self.l_min:.6g}  # m, the short end of the fit band: K depends on it "
             "(K ∝ a_min^((1-D)/2))\n"
         )
+
+
+def intervals(D: float, G: float, covariance: np.ndarray, dof: int, held: bool = False) -> dict:
+    """`stderr`, `ci95` and `correlation` of a `Characterisation` from the covariance of (D, ln G):
+    Student-t with `dof`, D's interval inside (1, 2), G's `exp(ln G ± t·se)`; no correlation for a
+    `held` D."""
+    t = stats.t.ppf(0.975, dof)
+    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
+    return dict(
+        stderr={"D": se_D, "G": G * se_logG},
+        ci95={
+            "D": (max(D - t * se_D, 1.0), min(D + t * se_D, 2.0)),
+            "G": tuple(G * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
+        },
+        correlation=0.0 if held else float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])),
+    )

@@ -7,12 +7,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import optimize, special, stats
+from scipy import optimize, special
 
 from ..numerics._validate import InputError
 from . import _spectra as spectra
 from ._band import CALIBRATION, select_band
-from ._conventions import GAMMA, convert_G
+from ._conventions import GAMMA
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
@@ -89,9 +89,6 @@ def characterise_stitched(topographies) -> Characterisation:
             "their lateral calibrations or the surfaces measured differ; the intervals include the misfit",
         )
     dof = max(n - 2, 2)
-    t = stats.t.ppf(0.975, dof)
-    se_D, se_logG = math.sqrt(covariance[0, 0]), math.sqrt(covariance[1, 1])
-    G_hat = math.exp(log_G_hat)
     shortest = min(2 * math.pi / law.band[1] for _, _, law in measured)
     longest = max(2 * math.pi / law.band[0] for _, _, law in measured)
     q_all = np.concatenate([q for _, q, _, _ in points])
@@ -99,20 +96,13 @@ def characterise_stitched(topographies) -> Characterisation:
     fit_q = np.geomspace(q_all.min(), q_all.max(), 50)
     exponent = (6.0 if first_kind == "areal" else 5.0) - 2 * D_hat
     fit_C = np.exp(_log_prefactor(first_kind, D_hat, log_G_hat) - exponent * np.log(fit_q))
-    return Characterisation(
-        D=float(D_hat),
-        G=G_hat,
-        G_structure_function=float(convert_G(G_hat, D_hat)),
-        l_min=shortest,
-        band=(shortest, longest),
-        method="psd",
-        stderr={"D": se_D, "G": G_hat * se_logG},
-        ci95={
-            "D": (max(D_hat - t * se_D, 1.0), min(D_hat + t * se_D, 2.0)),
-            "G": tuple(G_hat * np.exp(np.array([-1.0, 1.0]) * min(t * se_logG, 700.0))),
-        },
-        covariance=covariance,
-        correlation=float(covariance[0, 1] / math.sqrt(covariance[0, 0] * covariance[1, 1])),
+    return Characterisation.fitted(
+        "psd",
+        float(D_hat),
+        float(log_G_hat),
+        (shortest, longest),
+        covariance,
+        dof,
         groups=len(points),
         estimates=np.array([[float(s.D_of(law.slope)), math.nan] for _, s, law in measured]),
         spectrum=(q_all, C_all),
@@ -120,7 +110,6 @@ def characterise_stitched(topographies) -> Characterisation:
         diagnostics=diagnostics,
         kind=kinds[0] if len(set(kinds)) == 1 else "stitched",
         reliability_cutoff=None,
-        dof=dof,
         ends=(
             "the longest band's long end among the measurements",
             "the shortest band's short end among the measurements",
