@@ -22,91 +22,24 @@ import time
 
 import jax.numpy as jnp
 import numpy as np
+from scipy import special
 
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
 
+from ._identifiability import profile as profile_of
 from ._optimise import RUNNERS, Objective
 from ._parameters import FitParameter, resolve, with_stat
+from ._prior import NOISE_FLOOR, PriorObjective, posterior, resolve_prior
 from ._residuals import residuals_and_jacobian
-from ._statistics import inner_bounds, rival_optima, statistics
+from ._result import FitResult
+from ._statistics import inner_bounds, point_scatter, rival_optima, statistics
 
 # float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
 # ill-conditioned D–G valley. BFGS stops on the loss's relative progress per iteration: at an
 # optimum on a kink of the loss (see `optimise.run_bfgs`) 1e-12 left D 1e-6 short of it.
 DEFAULT_TOLERANCE = {"bfgs": 1e-15, "lm": 1e-10}
-
-
-@dataclasses.dataclass(frozen=True)
-class FitResult:
-    """Estimates, their uncertainty, and how the fit went.
-
-    **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name; stderr of a log-coordinate
-    parameter is the delta-method value · se(ln value), its interval is exp(ln value ± t·se));
-    `correlation` and `covariance` (in statistical coordinates, ordered as `params`); stderr and
-    ci95 are NaN where the model does not describe the data (`describes_data` False: the misfit is
-    far beyond the data's own scatter, and a warning says so), and a linear parameter's interval
-    never leaves its domain (D's stays in (1, 2));
-    `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points); `flagged`
-    (indices of data points outside the model at the optimum); `success`; `iterations` (of the
-    best start); `wall_time` (s, compilation included); `warnings`; `condition_number` (of the
-    scaled Gauss–Newton matrix); `start_losses`; `scene` (the fitted scene).
-    """
-
-    params: tuple[str, ...]
-    values: dict
-    stderr: dict
-    ci95: dict
-    correlation: np.ndarray
-    covariance: np.ndarray
-    residuals: np.ndarray
-    flagged: np.ndarray
-    success: bool
-    iterations: int
-    wall_time: float
-    warnings: tuple[str, ...]
-    condition_number: float
-    loss: float
-    start_losses: np.ndarray
-    method: str
-    scene: jc.Scene = dataclasses.field(repr=False)
-    describes_data: bool = True
-
-    def summary(self) -> str:
-        lines = [
-            f"fit by {self.method}: {'converged' if self.success else 'NOT converged'} in {self.iterations} "
-            f"iterations, {self.wall_time:.2f} s; rms log residual {math.sqrt(2 * self.loss):.3g}"
-        ]
-        for name in self.params:
-            lo, hi = self.ci95[name]
-            spread = (
-                f"± {self.stderr[name]:.3g}   95% CI [{lo:.6g}, {hi:.6g}]"
-                if self.describes_data
-                else "  95% CI not reported: the model does not describe the data"
-            )
-            lines.append(f"  {name:6s} = {self.values[name]:.6g} {spread}")
-        lines += [f"  warning: {w}" for w in self.warnings]
-        return "\n".join(lines)
-
-    def to_dict(self) -> dict:
-        return {
-            "params": list(self.params),
-            "values": self.values,
-            "stderr": self.stderr,
-            "ci95": {k: list(v) for k, v in self.ci95.items()},
-            "correlation": self.correlation.tolist(),
-            "residuals": self.residuals.tolist(),
-            "flagged": self.flagged.tolist(),
-            "success": self.success,
-            "iterations": self.iterations,
-            "wall_time_s": self.wall_time,
-            "warnings": list(self.warnings),
-            "condition_number": self.condition_number,
-            "loss": self.loss,
-            "method": self.method,
-            "describes_data": self.describes_data,
-        }
 
 
 METHODS = tuple(RUNNERS)
@@ -163,6 +96,9 @@ def fit(
     max_iter: int = 400,
     tol: float | None = None,
     starts=None,
+    prior=None,
+    noise: float | None = None,
+    profile: bool = False,
 ) -> FitResult:
     """Fit scene parameters to a stiffness-vs-load curve.
 
@@ -184,6 +120,16 @@ def fit(
       float64, 1e-6 in float32, and never finer than the model's `precision` (1e-6 for the
       boundary-element model, whose K moves a grid point of contact at a time).
     - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
+    - `prior`: what is known besides the curve: a `jaxcontact.topography.Characterisation` (its D and
+      ln G with their covariance, as a Gaussian prior), or a dict by parameter of `(mean, sd)`,
+      `{"mean": m, "sd": s}` (a scale's sd relative to its mean in the fit: ln coordinates) or
+      `{"low": a, "high": b}` (bounds). The fit is then the MAP estimate with the Laplace covariance
+      `(JᵀJ/σ² + Σ_p⁻¹)⁻¹`, and `FitResult.information` says how much of each interval came from the
+      curve and how much from the prior.
+    - `noise`: σ of ln K (the curve's relative noise), which weighs the curve against a prior;
+      default: the data's own point-to-point scatter.
+    - `profile`: also compute the profile likelihood of each parameter (the others re-optimised);
+      where it is not parabolic, the interval comes from it (`FitResult.profiles`).
 
     **Returns:** a `FitResult`.
     """
@@ -194,6 +140,10 @@ def fit(
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)
+    gaussian, bounds = resolve_prior(prior, fitted)
+    fitted = tuple(
+        dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted
+    )
     loads = np.asarray(loads, dtype=float).reshape(-1)
     stiffness = np.asarray(stiffness, dtype=float).reshape(-1)
     if loads.shape != stiffness.shape:
@@ -211,7 +161,10 @@ def fit(
     dtype = jnp.result_type(1.0)
     if tol is None:
         tol = max(DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6, scene.model.precision)
-    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
+    own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
+    if gaussian is not None:  # the prior's mean is the first start
+        own_stat[list(gaussian.index)] = gaussian.mean
+    own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
     if starts is None:
         u0s = starting_points(fitted, n_starts, seed, include=own)
     else:
@@ -220,6 +173,11 @@ def fit(
     traced_scene, _ = prepare(scene, loads)
     data = _padded_curve(loads, stiffness, dtype, _multiple(scene))
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)
+    if gaussian is not None:
+        sigma = float(noise) if noise is not None else max(point_scatter(np.log(loads), np.log(stiffness)), NOISE_FLOOR)
+        if not (math.isfinite(sigma) and sigma > 0):
+            raise InputError(f"noise = {noise!r} must be > 0 (valid range (0, inf)): σ of ln K")
+        objective = PriorObjective(objective, gaussian, sigma)
     outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
     u_all = np.stack([o.u for o in outcomes])
     losses = np.array([o.loss for o in outcomes])
@@ -227,6 +185,12 @@ def fit(
     converged = outcomes[best].converged
     stat_hat = np.array([p.stat_from_u(x) for p, x in zip(fitted, u_all[best])])
     result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
+    information = {}
+    if gaussian is not None:
+        result, information = _with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
+    profiles = {}
+    if profile:
+        profiles = _profiles(result, fitted, traced_scene, data, loads.size, stat_hat, replace=gaussian is None)
     success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
     warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
     if not converged:
@@ -248,12 +212,66 @@ def fit(
         wall_time=time.perf_counter() - t0,
         warnings=tuple(warnings),
         condition_number=result["condition"],
-        loss=float(losses[best]),
+        loss=objective.loss(u_all[best]) if gaussian is None else _data_loss(result),
         start_losses=losses,
         method=method,
         scene=with_stat(scene, fitted, np.asarray(stat_hat)),
         describes_data=result["describes_data"],
+        identifiability=result["identifiability"],
+        profiles=profiles,
+        information=information,
+        prior=None if gaussian is None else gaussian.source,
     )
+
+
+def _data_loss(result) -> float:
+    """½ mean r² of the curve alone (the prior's terms left out)."""
+    r = result["residuals"][np.isfinite(result["residuals"])]
+    return 0.5 * float(r @ r) / max(r.size, 1)
+
+
+def _with_prior(result, fitted, scene, data, n_points, stat_hat, gaussian, sigma):
+    """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
+    information report by parameter name."""
+    _, ok, _, J = (np.asarray(x)[:n_points] for x in residuals_and_jacobian(stat_hat, scene, fitted, *data))
+    post = posterior(J[ok], sigma, gaussian)
+    covariance = post["covariance"]
+    spread = np.sqrt(np.diag(covariance))
+    stderr, ci95 = {}, {}
+    for i, p in enumerate(fitted):
+        value = result["values"][p.name]
+        stderr[p.name] = value * spread[i] if p.log else spread[i]
+        lo, hi = (float(p.from_stat(stat_hat[i] + k * 1.959964 * spread[i])) for k in (-1, 1))
+        ci95[p.name] = (lo, hi) if p.log else (max(lo, p.low), min(hi, p.high))
+    information = {fitted[i].name: share for i, share in post["shares"].items()}
+    updated = dict(
+        result, covariance=covariance, stderr=stderr, ci95=ci95, correlation=covariance / np.outer(spread, spread)
+    )
+    return updated, information
+
+
+def _profiles(result, fitted, scene, data, n_points, stat_hat, replace: bool) -> dict:
+    """Each parameter's profile likelihood (of the curve alone); where its interval differs from the
+    parabolic one by more than 10 % of the latter's half-width on either side, and no prior enters the
+    interval (`replace`), the interval is the profile's."""
+    if not (result["describes_data"] and math.isfinite(result["s2"]) and result["s2"] > 0):
+        return {}
+    dof = result["n_used"] - len(fitted)
+    threshold = float(special.stdtrit(dof, 0.975)) ** 2
+    profiles = {}
+    for i, p in enumerate(fitted):
+        se = math.sqrt(result["covariance"][i, i]) if np.isfinite(result["covariance"][i, i]) else math.inf
+        if p.log:
+            se = result["stderr"][p.name] / result["values"][p.name] if np.isfinite(se) else se
+        prof = profile_of(scene, fitted, data, n_points, stat_hat, result["s2"], i, se, threshold)
+        profiles[p.name] = prof
+        lo, hi = result["ci95"][p.name]
+        half = (hi - lo) / 2
+        far = max(abs(prof.ci95[0] - lo), abs(prof.ci95[1] - hi)) > 0.1 * half
+        if replace and all(np.isfinite(prof.ci95)) and far:
+            result["ci95"][p.name] = prof.ci95
+            result["warnings"].append(f"{p.name}'s interval is its profile likelihood's: the misfit is not parabolic")
+    return profiles
 
 
 def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:

@@ -14,6 +14,7 @@ from scipy import special
 
 import jaxcontact as jc
 
+from ._identifiability import combinations, report
 from ._parameters import FitParameter
 from ._residuals import residuals_and_jacobian
 
@@ -100,10 +101,11 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
     dof = n - p
     names = [q.name for q in params]
     nan_matrix = np.full((p, p), np.nan)
-    covariance, correlation, condition = nan_matrix, nan_matrix, math.inf
+    covariance, correlation, condition, information, s2 = nan_matrix, nan_matrix, math.inf, nan_matrix, math.nan
     if dof > 0:
         s2 = float(r_used @ r_used) / dof
         JTJ = J.T @ J
+        information = JTJ / s2 if s2 > 0 else np.full((p, p), np.inf)
         scale = np.sqrt(np.diag(JTJ))
         if np.all(scale > 0):
             scaled = JTJ / np.outer(scale, scale)
@@ -133,13 +135,9 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
         if abs(u_hat[i]) > 12:
             warnings.append(f"{q.name} = {values[q.name]:.4g} is at the edge of its bounds [{q.low:g}, {q.high:g}]")
-    for i in range(p):
-        for j in range(i + 1, p):
-            if abs(correlation[i, j]) > 0.99:
-                warnings.append(
-                    f"{names[i]} and {names[j]} are strongly correlated (r = {correlation[i, j]:+.4f}): "
-                    "poorly identified separately"
-                )
+    found = combinations(params, information) if np.all(np.isfinite(information)) else ()
+    if any(not c.determined for c in found):
+        warnings.append(report(params, found))
     if condition > 1e8:
         warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
     misfit = misfit_warning(np.log(loads[ok]), np.asarray(log_stiffness)[: loads.size][ok], r_used)
@@ -161,6 +159,8 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         residuals=residuals,
         n_used=n,
         describes_data=not misfit,
+        identifiability=found,
+        s2=s2,
     )
 
 

@@ -74,6 +74,31 @@ def cmd_run(args) -> int:
     return 0
 
 
+def _prior(args):
+    """The fit's prior: the characterised `--topography`, or the `--prior` options, or None."""
+    if args.topography and args.prior:
+        raise CommandError("give --topography or --prior, not both")
+    if args.topography:
+        from ._surface_commands import characterise_file
+
+        return characterise_file(args)[1]
+    if not args.prior:
+        return None
+    stated = {}
+    for text in args.prior:
+        name, _, value = text.partition("=")
+        try:
+            if ".." in value:
+                low, high = (float(v) for v in value.split(".."))
+                stated[name.strip()] = {"low": low, "high": high}
+            else:
+                mean, sd = (float(v) for v in value.split(":"))
+                stated[name.strip()] = {"mean": mean, "sd": sd}
+        except ValueError:
+            raise CommandError(f"--prior {text}: write NAME=MEAN:SD or NAME=LOW..HIGH (e.g. D=1.45:0.05)") from None
+    return stated
+
+
 def _columns(rows) -> tuple[str, ...]:
     """The table's columns: the usual ones, and a topography run's band and other models beside K."""
     usual = ("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")
@@ -252,8 +277,17 @@ def cmd_fit(args) -> int:
             file=sys.stderr,
             flush=True,
         )
+    prior = _prior(args)
     result = fitting.fit(
-        curve.loads, curve.stiffness, spec.scene, params=args.params, method=args.method, n_starts=args.starts
+        curve.loads,
+        curve.stiffness,
+        spec.scene,
+        params=args.params,
+        method=args.method,
+        n_starts=args.starts,
+        prior=prior,
+        noise=args.noise,
+        profile=True,
     )
     if args.progress:
         print(f"fit done in {time.perf_counter() - t:.1f} s", file=sys.stderr, flush=True)

@@ -131,6 +131,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params", default="D,G", help="comma-separated parameters to fit (default: D,G)")
     p.add_argument("--method", choices=("bfgs", "lbfgs", "lm"), default="bfgs", help="optimiser (default: bfgs)")
     p.add_argument("--starts", type=int, default=12, help="number of starts (default: 12)")
+    p.add_argument(
+        "--topography",
+        help="a measured surface file: its D and ln G with their covariance as the prior (joint inference)",
+    )
+    add_topography_options(p)
+    p.add_argument(
+        "--prior",
+        action="append",
+        metavar="NAME=MEAN:SD|NAME=LOW..HIGH",
+        help="a prior on a fitted parameter, e.g. D=1.45:0.05 (Gaussian) or D=1.3..1.6 (bounds); repeatable",
+    )
+    p.add_argument("--noise", type=float, help="σ of ln K (default: the data's own point-to-point scatter)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
 

@@ -96,9 +96,13 @@ def plot_sweep(solution: Solution, title: str, out: pathlib.Path) -> list[str]:
 
 
 def fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness) -> Figure:
-    """Data and fitted curve with the fitted values and their 95 % intervals; residuals below."""
-    fig = figure((6.4, 6.0), rows=2)
-    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.4))
+    """Data and fitted curve with the fitted values and their 95 % intervals; residuals below; and where
+    the fit has profiles, a panel of each parameter's profile likelihood against the parabola."""
+    rows = 3 if getattr(result, "profiles", None) else 2
+    fig = figure((6.4, 6.0 + 2.4 * (rows - 2)), rows=rows)
+    axes = fig.subplots(rows, 1, height_ratios=(3, 1.4, 2)[:rows])
+    top, bottom = axes[0], axes[1]
+    bottom.sharex(top)
     top.loglog(loads, stiffness, "o", ms=4, label="data")
     if result.describes_data:
         values = [
@@ -125,7 +129,27 @@ def fit_figure(result, loads, stiffness, fine_loads, fitted_stiffness) -> Figure
     bottom.axhspan(-2 * rms, 2 * rms, color="C1", alpha=0.15, label=f"±2 rms ({rms:.3g})")
     bottom.set(xlabel="load F (N)", ylabel="ln K_fit − ln K_data")
     bottom.grid(True, which="both", alpha=0.3)
+    if rows == 3:
+        _profile_panel(axes[2], result)
     return fig
+
+
+def _profile_panel(ax, result) -> None:
+    """Δχ² of each parameter's profile against its distance from the optimum in (parabolic) standard
+    errors of its statistical coordinate: a parabola x² where the Gauss–Newton interval holds."""
+    for k, (name, prof) in enumerate(result.profiles.items()):
+        log = PARAMETERS[name].log
+        best = np.log(result.values[name]) if log else result.values[name]
+        se = result.stderr[name] / result.values[name] if log else result.stderr[name]
+        x = ((np.log(prof.values) if log else prof.values) - best) / se
+        ax.plot(x, prof.delta_chi2, "o-", ms=3, color=f"C{k}", label=f"profile of {name}")
+    grid = np.linspace(-4, 4, 81)
+    ax.plot(grid, grid**2, "k:", lw=1, label="parabola (Gauss–Newton)")
+    threshold = next(iter(result.profiles.values())).threshold
+    ax.axhline(threshold, color="0.5", lw=0.8, label=f"95 % (Δχ² = {threshold:.2f})")
+    ax.set(xlabel="(θ − θ̂) / standard error", ylabel="Δχ²", ylim=(0, max(2.5 * threshold, 12)))
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
 
 
 def plot_fit(result, loads, stiffness, fine_loads, fitted_stiffness, path: pathlib.Path) -> str:

@@ -1,0 +1,146 @@
+"""What the user already knows, as a prior: the topography's (D, ln G) and their covariance, or stated
+means and standard deviations, or bounds (docs/fitting.md, "Joint inference with the surface").
+
+A Gaussian prior lives in the fit's statistical coordinates (D and ν linear; G, E, H, l_min, area
+logarithmic: a stated sd of a scale is relative, sd/mean). The fit then minimises
+`Σ (r_i / σ)² + (θ − μ)ᵀ Σ_p⁻¹ (θ − μ)`, σ the curve's noise in ln K (given, or the data's own
+point-to-point scatter), and the posterior covariance is `(JᵀJ/σ² + Σ_p⁻¹)⁻¹` (Laplace).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from jaxcontact import InputError
+
+from ._optimise import Objective
+
+# Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
+NOISE_FLOOR = 1e-3
+
+
+@dataclasses.dataclass(frozen=True)
+class GaussianPrior:
+    """`mean` and `covariance` of the parameters `index` (positions among the fitted ones), in
+    statistical coordinates; `source` says where it came from."""
+
+    index: tuple[int, ...]
+    mean: np.ndarray
+    covariance: np.ndarray
+    source: str
+
+    @property
+    def root(self) -> np.ndarray:
+        """`L⁻¹` with `Σ_p = L Lᵀ`: the prior's residuals are `L⁻¹ (θ − μ)`."""
+        return np.linalg.inv(np.linalg.cholesky(self.covariance))
+
+    def precision(self, n: int) -> np.ndarray:
+        """`Σ_p⁻¹` embedded in the n × n space of the fitted parameters (zero where no prior)."""
+        full = np.zeros((n, n))
+        full[np.ix_(self.index, self.index)] = np.linalg.inv(self.covariance)
+        return full
+
+
+def _characterisation_prior(c, fitted) -> GaussianPrior:
+    names = [p.name for p in fitted]
+    index = tuple(names.index(n) for n in ("D", "G") if n in names)
+    if not index:
+        raise InputError("prior: a characterisation gives D and G, and neither is fitted")
+    chosen = [k for k, n in enumerate(("D", "G")) if n in names]
+    mean = np.array([c.D, math.log(c.G)])[chosen]
+    covariance = np.asarray(c.covariance, dtype=float)[np.ix_(chosen, chosen)]
+    if not np.all(np.isfinite(covariance)) or np.any(np.diag(covariance) <= 0):
+        raise InputError("prior: the characterisation has no usable covariance of (D, ln G) (D was held?)")
+    return GaussianPrior(
+        index, mean, covariance, f"the topography ({c.method}, band {c.band[0]:.3g}-{c.band[1]:.3g} m)"
+    )
+
+
+def _stated_prior(prior: dict, fitted):
+    """Gaussian terms and tightened bounds from `{name: {"mean": m, "sd": s}}`, `{name: (m, s)}` or
+    `{name: {"low": a, "high": b}}`."""
+    names = [p.name for p in fitted]
+    index, mean, variance, bounds = [], [], [], {}
+    for name, spec in prior.items():
+        if name not in names:
+            raise InputError(f"prior on {name!r}, which is not fitted (params = {', '.join(names)})")
+        p = fitted[names.index(name)]
+        if isinstance(spec, (tuple, list)) and len(spec) == 2:
+            spec = {"mean": spec[0], "sd": spec[1]}
+        if not isinstance(spec, dict) or not ({"mean", "sd"} <= set(spec) or {"low", "high"} <= set(spec)):
+            raise InputError(f"prior[{name!r}] = {spec!r} must be (mean, sd), {{'mean', 'sd'}} or {{'low', 'high'}}")
+        if "low" in spec:
+            low, high = float(spec["low"]), float(spec["high"])
+            if not (p.low <= low < high <= p.high):
+                raise InputError(
+                    f"prior[{name!r}] bounds [{low:g}, {high:g}] must satisfy {p.low:g} <= low < high <= {p.high:g}"
+                )
+            bounds[name] = (low, high)
+            continue
+        m, sd = float(spec["mean"]), float(spec["sd"])
+        if not (math.isfinite(sd) and sd > 0):
+            raise InputError(f"prior[{name!r}]: sd = {sd:g} must be > 0 (valid range (0, inf))")
+        if not (p.low < m < p.high):
+            raise InputError(f"prior[{name!r}]: mean = {m:g} must lie in ({p.low:g}, {p.high:g})")
+        index.append(names.index(name))
+        mean.append(math.log(m) if p.log else m)
+        variance.append((sd / m) ** 2 if p.log else sd**2)
+    gaussian = GaussianPrior(tuple(index), np.array(mean), np.diag(variance), "stated") if index else None
+    return gaussian, bounds
+
+
+def resolve_prior(prior, fitted):
+    """`(GaussianPrior or None, {name: (low, high)})` from a characterisation, a dict, or None."""
+    if prior is None:
+        return None, {}
+    if hasattr(prior, "covariance") and hasattr(prior, "D"):
+        return _characterisation_prior(prior, fitted), {}
+    if isinstance(prior, dict):
+        return _stated_prior(prior, fitted)
+    raise InputError(f"prior = {type(prior).__name__} must be a topography Characterisation or a dict by parameter")
+
+
+class PriorObjective:
+    """An objective (`Objective`'s interface: `params`, `n_points`, `(r, J) = objective(u)`, `loss(u)`)
+    whose residuals are `base`'s divided by the noise `sigma`, with the prior's `L⁻¹ (θ − μ)` appended."""
+
+    def __init__(self, base: Objective, prior: GaussianPrior, sigma: float):
+        self.base, self.params, self.n_points = base, base.params, base.n_points
+        self.prior, self.sigma, self._root = prior, sigma, prior.root
+
+    def __call__(self, u):
+        r, J = self.base(u)
+        stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, np.asarray(u, dtype=float))))
+        index = list(self.prior.index)
+        r_prior = self._root @ (np.asarray(stat)[index] - self.prior.mean)
+        J_prior = np.zeros((len(index), len(self.params)))
+        J_prior[:, index] = self._root * np.asarray(slope)[index]
+        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior])
+
+    def loss(self, u) -> float:
+        r = self(u)[0]
+        return 0.5 * float(r @ r) / self.n_points
+
+
+def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior) -> dict:
+    """The Laplace covariance and, per parameter with a prior, where its information came from:
+    standard errors (statistical coordinates) of the prior alone, the curve alone and both, and the
+    curve's share `1 − var_both / var_prior`."""
+    n = J.shape[1]
+    curve = J.T @ J / sigma**2
+    covariance = np.linalg.inv(curve + prior.precision(n))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        curve_alone = np.sqrt(np.diag(np.linalg.pinv(curve)))
+    shares = {}
+    for k, i in enumerate(prior.index):
+        var_prior, var_both = prior.covariance[k, k], covariance[i, i]
+        shares[i] = dict(
+            prior=math.sqrt(var_prior),
+            curve=float(curve_alone[i]) if np.linalg.matrix_rank(curve) == n else math.inf,
+            both=math.sqrt(var_both),
+            curve_share=max(0.0, 1.0 - var_both / var_prior),
+        )
+    return {"covariance": covariance, "shares": shares}

@@ -1,0 +1,157 @@
+"""What a curve determines (Fisher directions, profiles) and joint inference with a prior: against
+analytic cases, closed forms and seed-model-made curves of known truth."""
+
+import math
+
+import numpy as np
+import pytest
+from helpers import ROOT, TABLE1, make_scene
+
+import fitting
+from fitting._identifiability import combinations, report
+from fitting._optimise import run_lm
+from fitting._prior import GaussianPrior, PriorObjective, resolve_prior
+from fitting._synthetic import TABLE1_F_STAR, synthetic_curve
+
+D_AND_G = fitting.resolve(("D", "G"))
+ROOT_DATA = ROOT / "data" / "table1_grinding_generated.csv"
+START = dict(TABLE1, D=1.55, G=1e-9)
+
+
+@pytest.fixture(scope="module")
+def table1():
+    return make_scene(**TABLE1)
+
+
+def _rank_one_information(direction, strength=1e6, floor=1e-6):
+    v = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    return strength * np.outer(v, v) + floor * np.eye(2)
+
+
+def test_the_determined_combination_is_the_one_the_data_depend_on():
+    """K depends on D + 0.5 ln G alone: that combination is determined, its normal is not."""
+    found = combinations(D_AND_G, _rank_one_information([1.0, 0.5]))
+    assert np.allclose([found[0].weights["D"], found[0].weights["G"]], np.array([1.0, 0.5]) / math.sqrt(1.25))
+
+
+def test_the_determined_combinations_standard_error_is_one_over_root_information():
+    found = combinations(D_AND_G, _rank_one_information([1.0, 0.5], strength=400.0))
+    assert found[0].stderr == pytest.approx(1 / math.sqrt(400.0 + 1e-6), rel=1e-9)
+
+
+def test_the_ridge_is_reported_as_undetermined():
+    found = combinations(D_AND_G, _rank_one_information([1.0, 0.5]))
+    assert [c.determined for c in found] == [True, False]
+
+
+def test_the_report_names_the_fixed_combination_and_the_open_one():
+    text = report(D_AND_G, combinations(D_AND_G, _rank_one_information([1.0, 0.5])))
+    assert "fixes 0.89 D +0.45 ln G" in text and "open" in text and "D, G alone undetermined" in text
+
+
+@pytest.fixture(scope="module")
+def profiled(table1):
+    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.01, seed=7)
+    return fitting.fit(loads, K, make_scene(**START), n_starts=8, profile=True)
+
+
+@pytest.mark.parametrize("name", ["D", "G"])
+def test_profile_intervals_agree_with_the_parabolic_ones_on_a_well_determined_curve(profiled, name):
+    lo, hi = profiled.profiles[name].ci95
+    value, se = profiled.values[name], profiled.stderr[name]
+    t = profiled.profiles[name].threshold ** 0.5
+    if name == "G":  # parabolic in ln G
+        lo, hi, value, se = math.log(lo), math.log(hi), math.log(value), se / value
+    assert (hi - lo) / (2 * t * se) == pytest.approx(1.0, abs=0.05)
+
+
+def test_a_well_determined_curve_determines_every_combination(profiled):
+    assert all(c.determined for c in profiled.identifiability)
+
+
+class _Linear:
+    """A linear model in statistical coordinates: r = X θ − y, for the prior's closed-form check."""
+
+    def __init__(self, X, y):
+        self.X, self.y, self.params, self.n_points = X, y, D_AND_G, len(y)
+
+    def __call__(self, u):
+        stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
+        return self.X @ np.asarray(stat) - self.y, self.X * np.asarray(slope)
+
+    def loss(self, u):
+        r = self(u)[0]
+        return 0.5 * float(r @ r) / self.n_points
+
+
+def test_the_map_estimate_is_the_gaussian_linear_closed_form():
+    rng = np.random.default_rng(0)
+    X = np.column_stack([rng.normal(size=20), 0.1 * rng.normal(size=20)])
+    truth = np.array([1.45, math.log(3e-10)])
+    sigma = 0.05
+    y = X @ truth + sigma * rng.normal(size=20)
+    prior = GaussianPrior((0, 1), np.array([1.5, math.log(1e-10)]), np.array([[0.02**2, 0.0], [0.0, 0.5**2]]), "test")
+    precision = X.T @ X / sigma**2 + np.linalg.inv(prior.covariance)
+    closed = np.linalg.solve(precision, X.T @ y / sigma**2 + np.linalg.solve(prior.covariance, prior.mean))
+    objective = PriorObjective(_Linear(X, y), prior, sigma)
+    u0 = np.array([p.u_from_stat(m) for p, m in zip(D_AND_G, prior.mean)])
+    found = run_lm(objective, u0, 400, 1e-12).u
+    assert np.allclose([p.stat_from_u(x) for p, x in zip(D_AND_G, found)], closed, rtol=0, atol=1e-7)
+
+
+def test_a_tight_prior_holds_D_and_the_curve_gives_G(table1):
+    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.05, seed=3)
+    result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (TABLE1["D"], 1e-4)})
+    assert result.values["D"] == pytest.approx(TABLE1["D"], abs=3e-4)
+
+
+def test_the_report_says_how_much_came_from_the_curve(table1):
+    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.05, seed=3)
+    wide = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (1.4, 0.5)})
+    assert wide.information["D"]["curve_share"] > 0.99
+
+
+def test_joint_inference_covers_the_truth_over_seeds(table1):
+    """Seed-model curves (5 % noise) with a surface prior drawn around the truth at its own covariance."""
+    covariance = np.array([[0.02**2, 0.9 * 0.02 * 0.6], [0.9 * 0.02 * 0.6, 0.6**2]])
+    truth = np.array([TABLE1["D"], math.log(TABLE1["G"])])
+    rng = np.random.default_rng(11)
+    covered = 0
+    for seed in range(20):
+        loads, K = synthetic_curve(table1, TABLE1_F_STAR[::2], noise=0.05, seed=2000 + seed)
+        mean = rng.multivariate_normal(truth, covariance)
+        prior = _Surface(mean[0], math.exp(mean[1]), covariance)
+        result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior)
+        covered += all(lo < v < hi for v, (lo, hi) in zip((TABLE1["D"], TABLE1["G"]), result.ci95.values()))
+    assert covered >= 17
+
+
+class _Surface:
+    """A characterisation as `fitting.fit` reads one: D, G, their (D, ln G) covariance, method and band."""
+
+    def __init__(self, D, G, covariance):
+        self.D, self.G, self.covariance, self.method, self.band = D, G, covariance, "psd", (1e-6, 1e-4)
+
+
+@pytest.mark.parametrize(
+    "prior, message",
+    [
+        ({"D": (1.4, -0.1)}, r"prior\['D'\]: sd = -0.1 must be > 0"),
+        ({"E": (2e11, 1e10)}, "prior on 'E', which is not fitted"),
+        ({"D": {"low": 1.6, "high": 1.3}}, r"prior\['D'\] bounds \[1.6, 1.3\] must satisfy"),
+        ({"D": "1.4"}, r"prior\['D'\] = '1.4' must be"),
+    ],
+)
+def test_a_bad_prior_names_the_parameter(prior, message):
+    with pytest.raises(ValueError, match=message):
+        resolve_prior(prior, D_AND_G)
+
+
+def test_a_topography_that_cannot_be_characterised_is_one_line(tmp_path, capsys):
+    from jaxcontact.cli import main
+
+    flat = tmp_path / "flat.txt"
+    np.savetxt(flat, np.zeros((64, 64)))
+    code = main(["fit", str(ROOT_DATA), "--topography", str(flat), "--size", "1e-4", "1e-4", "--out", str(tmp_path)])
+    assert (code, "flat" in capsys.readouterr().err) == (2, True)
+
