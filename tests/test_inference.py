@@ -154,4 +154,3 @@ def test_a_topography_that_cannot_be_characterised_is_one_line(tmp_path, capsys)
     np.savetxt(flat, np.zeros((64, 64)))
     code = main(["fit", str(ROOT_DATA), "--topography", str(flat), "--size", "1e-4", "1e-4", "--out", str(tmp_path)])
     assert (code, "flat" in capsys.readouterr().err) == (2, True)
-
