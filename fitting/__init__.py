@@ -1,20 +1,28 @@
 """fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
 
-`fit(loads, stiffness, scene, params=("D", "G"), method="bfgs")` returns a `FitResult` with
-estimates, standard errors, 95 % intervals, correlations and identifiability warnings.
+`fit(loads, stiffness, scene, params=("D", "G"), method="bfgs", prior=None)` returns a `FitResult`
+with estimates, standard errors, 95 % intervals, correlations and what the curve determines;
+`sample(...)` (the `bayes` extra) a `Posterior` by NUTS.
 """
 
 from ._data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
-from ._fit import METHODS, FitResult, fit, model_stiffness, starting_points
+from ._fit import METHODS, fit, model_stiffness, starting_points
+from ._identifiability import Combination, Profile
 from ._parameters import PARAMETERS, FitParameter, resolve
+from ._posterior import Posterior, sample
 from ._residuals import FLAGGED_RESIDUAL, log_residuals
 from ._resonance import fit_resonance
+from ._result import FitResult
 
 __all__ = [
     "fit",
     "model_stiffness",
     "fit_resonance",
     "FitResult",
+    "sample",
+    "Posterior",
+    "Combination",
+    "Profile",
     "METHODS",
     "FLAGGED_RESIDUAL",
     "log_residuals",

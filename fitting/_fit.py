@@ -17,24 +17,22 @@ statistics and named in `FitResult.warnings`.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 
 import jax.numpy as jnp
 import numpy as np
-from scipy import special
 
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
 
-from ._identifiability import profile as profile_of
+from ._identifiability import profiles_of
 from ._optimise import RUNNERS, Objective
 from ._parameters import FitParameter, resolve, with_stat
-from ._prior import NOISE_FLOOR, PriorObjective, posterior, resolve_prior
+from ._prior import PriorObjective, noise_scale, resolve_prior, with_prior
 from ._residuals import residuals_and_jacobian
 from ._result import FitResult
-from ._statistics import inner_bounds, point_scatter, rival_optima, statistics
+from ._statistics import inner_bounds, rival_optima, statistics
 
 # float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
 # ill-conditioned D–G valley. BFGS stops on the loss's relative progress per iteration: at an
@@ -127,7 +125,7 @@ def fit(
       `(JᵀJ/σ² + Σ_p⁻¹)⁻¹`, and `FitResult.information` says how much of each interval came from the
       curve and how much from the prior.
     - `noise`: σ of ln K (the curve's relative noise), which weighs the curve against a prior;
-      default: the data's own point-to-point scatter.
+      default: the residuals' scale of the curve fitted alone.
     - `profile`: also compute the profile likelihood of each parameter (the others re-optimised);
       where it is not parabolic, the interval comes from it (`FitResult.profiles`).
 
@@ -174,9 +172,7 @@ def fit(
     data = _padded_curve(loads, stiffness, dtype, _multiple(scene))
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)
     if gaussian is not None:
-        sigma = float(noise) if noise is not None else max(point_scatter(np.log(loads), np.log(stiffness)), NOISE_FLOOR)
-        if not (math.isfinite(sigma) and sigma > 0):
-            raise InputError(f"noise = {noise!r} must be > 0 (valid range (0, inf)): σ of ln K")
+        sigma = noise_scale(objective, u0s[0], noise, max_iter, tol, len(fitted))
         objective = PriorObjective(objective, gaussian, sigma)
     outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
     u_all = np.stack([o.u for o in outcomes])
@@ -187,10 +183,10 @@ def fit(
     result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
     information = {}
     if gaussian is not None:
-        result, information = _with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
+        result, information = with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
     profiles = {}
     if profile:
-        profiles = _profiles(result, fitted, traced_scene, data, loads.size, stat_hat, replace=gaussian is None)
+        profiles = profiles_of(result, fitted, traced_scene, data, loads.size, stat_hat, replace=gaussian is None)
     success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
     warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
     if not converged:
@@ -228,50 +224,6 @@ def _data_loss(result) -> float:
     """½ mean r² of the curve alone (the prior's terms left out)."""
     r = result["residuals"][np.isfinite(result["residuals"])]
     return 0.5 * float(r @ r) / max(r.size, 1)
-
-
-def _with_prior(result, fitted, scene, data, n_points, stat_hat, gaussian, sigma):
-    """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
-    information report by parameter name."""
-    _, ok, _, J = (np.asarray(x)[:n_points] for x in residuals_and_jacobian(stat_hat, scene, fitted, *data))
-    post = posterior(J[ok], sigma, gaussian)
-    covariance = post["covariance"]
-    spread = np.sqrt(np.diag(covariance))
-    stderr, ci95 = {}, {}
-    for i, p in enumerate(fitted):
-        value = result["values"][p.name]
-        stderr[p.name] = value * spread[i] if p.log else spread[i]
-        lo, hi = (float(p.from_stat(stat_hat[i] + k * 1.959964 * spread[i])) for k in (-1, 1))
-        ci95[p.name] = (lo, hi) if p.log else (max(lo, p.low), min(hi, p.high))
-    information = {fitted[i].name: share for i, share in post["shares"].items()}
-    updated = dict(
-        result, covariance=covariance, stderr=stderr, ci95=ci95, correlation=covariance / np.outer(spread, spread)
-    )
-    return updated, information
-
-
-def _profiles(result, fitted, scene, data, n_points, stat_hat, replace: bool) -> dict:
-    """Each parameter's profile likelihood (of the curve alone); where its interval differs from the
-    parabolic one by more than 10 % of the latter's half-width on either side, and no prior enters the
-    interval (`replace`), the interval is the profile's."""
-    if not (result["describes_data"] and math.isfinite(result["s2"]) and result["s2"] > 0):
-        return {}
-    dof = result["n_used"] - len(fitted)
-    threshold = float(special.stdtrit(dof, 0.975)) ** 2
-    profiles = {}
-    for i, p in enumerate(fitted):
-        se = math.sqrt(result["covariance"][i, i]) if np.isfinite(result["covariance"][i, i]) else math.inf
-        if p.log:
-            se = result["stderr"][p.name] / result["values"][p.name] if np.isfinite(se) else se
-        prof = profile_of(scene, fitted, data, n_points, stat_hat, result["s2"], i, se, threshold)
-        profiles[p.name] = prof
-        lo, hi = result["ci95"][p.name]
-        half = (hi - lo) / 2
-        far = max(abs(prof.ci95[0] - lo), abs(prof.ci95[1] - hi)) > 0.1 * half
-        if replace and all(np.isfinite(prof.ci95)) and far:
-            result["ci95"][p.name] = prof.ci95
-            result["warnings"].append(f"{p.name}'s interval is its profile likelihood's: the misfit is not parabolic")
-    return profiles
 
 
 def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:

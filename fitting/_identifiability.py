@@ -4,7 +4,7 @@ it fixes and the one it leaves open, and profile likelihoods (docs/fitting.md, "
 The Fisher information is the Gauss–Newton `JᵀJ / s²` in the fit's statistical coordinates (D and ν
 linear; G, E, H, l_min, area logarithmic), whose eigenvectors are the combinations `Σ v_i θ_i` that the
 curve determines independently, each with standard error `1/√λ`. A combination is *determined* when
-its 95 % interval is shorter than a quarter of the span the search bounds allow along it.
+its 95 % interval is shorter than a tenth of the span the search bounds allow along it.
 """
 
 from __future__ import annotations
@@ -13,13 +13,13 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import optimize
+from scipy import optimize, special
 
 from ._residuals import residuals_and_jacobian
 
 # A combination whose 95 % interval spans more than this share of its extent within the bounds is
 # not determined by the curve.
-UNDETERMINED_SHARE = 0.25
+UNDETERMINED_SHARE = 0.1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -68,26 +68,31 @@ def report(params, found: tuple[Combination, ...]) -> str:
 @dataclasses.dataclass(frozen=True)
 class Profile:
     """The profile of one parameter: `values` (physical), `delta_chi2` (χ² above the optimum, the others
-    re-optimised), and the 95 % interval where `delta_chi2` ≤ `threshold` (NaN where it is not reached
-    within the bounds)."""
+    re-optimised), the 95 % interval where `delta_chi2` ≤ `threshold`, and whether each end was `reached`
+    (where not, the profile stays below the threshold out to the parameter's bound, which is the end)."""
 
     name: str
     values: np.ndarray
     delta_chi2: np.ndarray
     ci95: tuple[float, float]
     threshold: float
+    reached: tuple[bool, bool]
 
 
 def profile(scene, params, data, n_points: int, stat_hat, s2: float, index: int, stderr: float, threshold: float):
-    """The profile likelihood of parameter `index` over ±4 standard errors (statistical coordinates,
-    clipped to the bounds), 17 points, the other parameters re-optimised by least squares from the optimum."""
+    """The profile likelihood of parameter `index`: 8 points each side out to 4 standard errors
+    (statistical coordinates), and on to the bound in 6 more where the threshold is not reached, the
+    other parameters re-optimised by least squares from the neighbouring point."""
     loads, log_stiffness = data
     p = params[index]
     lo, hi = p.stat_bounds
+    centre = float(stat_hat[index])
     half = 4 * stderr if math.isfinite(stderr) and stderr > 0 else 0.25 * (hi - lo)
-    grid = np.linspace(max(stat_hat[index] - half, lo + 1e-9), min(stat_hat[index] + half, hi - 1e-9), 17)
     others = [k for k in range(len(params)) if k != index]
-    bounds = ([params[k].stat_bounds[0] for k in others], [params[k].stat_bounds[1] for k in others])
+    bounds = (
+        np.array([params[k].stat_bounds[0] for k in others]),
+        np.array([params[k].stat_bounds[1] for k in others]),
+    )
 
     def full(value, rest):
         stat = np.array(stat_hat, dtype=float)
@@ -95,40 +100,84 @@ def profile(scene, params, data, n_points: int, stat_hat, s2: float, index: int,
         stat[others] = rest
         return stat
 
-    def rss(stat):
-        r = np.asarray(residuals_and_jacobian(stat, scene, params, loads, log_stiffness)[0])[:n_points]
-        return float(r @ r)
+    def evaluate(stat):
+        r, _, _, J = residuals_and_jacobian(stat, scene, params, loads, log_stiffness)
+        return np.asarray(r)[:n_points], np.asarray(J)[:n_points][:, others]
 
-    def residuals(rest, value):
-        return np.asarray(residuals_and_jacobian(full(value, rest), scene, params, loads, log_stiffness)[0])[:n_points]
-
-    def jacobian(rest, value):
-        J = np.asarray(residuals_and_jacobian(full(value, rest), scene, params, loads, log_stiffness)[3])
-        return J[:n_points][:, others]
-
-    best = rss(np.asarray(stat_hat, dtype=float))
-    profile_rss, rest = [], np.asarray(stat_hat, dtype=float)[others]
-    for value in grid:
+    def rss_at(value, rest):
         if others:
-            start = np.clip(rest, np.array(bounds[0]) + 1e-9, np.array(bounds[1]) - 1e-9)
-            rest = optimize.least_squares(residuals, start, jac=jacobian, bounds=bounds, args=(value,)).x
-        profile_rss.append(rss(full(value, rest)))
-    delta = (np.array(profile_rss) - best) / s2
-    return Profile(
-        p.name, np.array([p.from_stat(v) for v in grid]), delta, _crossings(grid, delta, threshold, p), threshold
-    )
+            start = np.clip(rest, bounds[0] + 1e-9, bounds[1] - 1e-9)
+            rest = optimize.least_squares(
+                lambda x: evaluate(full(value, x))[0], start, jac=lambda x: evaluate(full(value, x))[1], bounds=bounds
+            ).x
+        r = evaluate(full(value, rest))[0]
+        return float(r @ r), rest
+
+    best = rss_at(centre, np.asarray(stat_hat, dtype=float)[others])[0]
+    sides = []
+    for direction, limit in ((-1, lo + 1e-9), (1, hi - 1e-9)):
+        values, deltas, rest = [], [], np.asarray(stat_hat, dtype=float)[others]
+        near = centre + direction * np.linspace(0, half, 9)[1:]
+        for value in near[(near - limit) * direction < 0]:
+            rss, rest = rss_at(value, rest)
+            values.append(value)
+            deltas.append((rss - best) / s2)
+        if not deltas or max(deltas) <= threshold:
+            for value in np.linspace(values[-1] if values else centre, limit, 7)[1:]:
+                rss, rest = rss_at(value, rest)
+                values.append(value)
+                deltas.append((rss - best) / s2)
+        sides.append((values, deltas))
+    grid = np.array(sides[0][0][::-1] + [centre] + sides[1][0])
+    delta = np.array(sides[0][1][::-1] + [0.0] + sides[1][1])
+    ci, reached = _crossings(grid, delta, threshold, p)
+    return Profile(p.name, np.array([p.from_stat(v) for v in grid]), delta, ci, threshold, reached)
 
 
-def _crossings(grid, delta, threshold, p) -> tuple[float, float]:
-    """Where the profile crosses `threshold` either side of its minimum (linear interpolation)."""
-    centre = int(np.argmin(delta))
-    ends = []
-    for side in (range(centre, -1, -1), range(centre, grid.size)):
-        side = list(side)
-        value = math.nan
+def _crossings(grid, delta, threshold, p):
+    """Where the profile first crosses `threshold` either side of the optimum (linear interpolation),
+    or the last point (the bound) where it does not; and whether each side crossed."""
+    centre = int(np.flatnonzero(delta == 0.0)[0])
+    ends, reached = [], []
+    for side in (list(range(centre, -1, -1)), list(range(centre, grid.size))):
+        value = grid[side[-1]]
+        crossed = False
         for a, b in zip(side, side[1:]):
             if delta[a] <= threshold < delta[b]:
                 value = grid[a] + (threshold - delta[a]) * (grid[b] - grid[a]) / (delta[b] - delta[a])
+                crossed = True
                 break
-        ends.append(float(p.from_stat(value)) if math.isfinite(value) else math.nan)
-    return ends[0], ends[1]
+        ends.append(float(p.from_stat(value)))
+        reached.append(crossed)
+    return (ends[0], ends[1]), (reached[0], reached[1])
+
+
+def profiles_of(result, fitted, scene, data, n_points, stat_hat, replace: bool) -> dict:
+    """Each parameter's profile likelihood (of the curve alone); where its interval differs from the
+    parabolic one by more than 10 % of the latter's half-width on either side, and no prior enters the
+    interval (`replace`), the interval is the profile's."""
+    if not (result["describes_data"] and math.isfinite(result["s2"]) and result["s2"] > 0):
+        return {}
+    dof = result["n_used"] - len(fitted)
+    threshold = float(special.stdtrit(dof, 0.975)) ** 2
+    profiles = {}
+    for i, p in enumerate(fitted):
+        se = math.sqrt(result["covariance"][i, i]) if np.isfinite(result["covariance"][i, i]) else math.inf
+        if p.log:
+            se = result["stderr"][p.name] / result["values"][p.name] if np.isfinite(se) else se
+        prof = profile(scene, fitted, data, n_points, stat_hat, result["s2"], i, se, threshold)
+        profiles[p.name] = prof
+        lo, hi = result["ci95"][p.name]
+        half = (hi - lo) / 2
+        for end, reached in zip(("below", "above"), prof.reached):
+            if not reached:
+                bound = prof.ci95[0] if end == "below" else prof.ci95[1]
+                result["warnings"].append(
+                    f"the curve does not bound {p.name} {end}: its profile stays under the 95 % level out to "
+                    f"{p.name} = {bound:.4g}, the end of its range"
+                )
+        far = max(abs(prof.ci95[0] - lo), abs(prof.ci95[1] - hi)) > 0.1 * half
+        if replace and far:
+            result["ci95"][p.name] = prof.ci95
+            result["warnings"].append(f"{p.name}'s interval is its profile likelihood's: the misfit is not parabolic")
+    return profiles

@@ -3,8 +3,8 @@ means and standard deviations, or bounds (docs/fitting.md, "Joint inference with
 
 A Gaussian prior lives in the fit's statistical coordinates (D and ν linear; G, E, H, l_min, area
 logarithmic: a stated sd of a scale is relative, sd/mean). The fit then minimises
-`Σ (r_i / σ)² + (θ − μ)ᵀ Σ_p⁻¹ (θ − μ)`, σ the curve's noise in ln K (given, or the data's own
-point-to-point scatter), and the posterior covariance is `(JᵀJ/σ² + Σ_p⁻¹)⁻¹` (Laplace).
+`Σ (r_i / σ)² + (θ − μ)ᵀ Σ_p⁻¹ (θ − μ)`, σ the curve's noise in ln K (given, or the residuals'
+scale of the curve fitted alone), and the posterior covariance is `(JᵀJ/σ² + Σ_p⁻¹)⁻¹` (Laplace).
 """
 
 from __future__ import annotations
@@ -16,7 +16,8 @@ import numpy as np
 
 from jaxcontact import InputError
 
-from ._optimise import Objective
+from ._optimise import Objective, run_lm
+from ._residuals import residuals_and_jacobian
 
 # Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
 NOISE_FLOOR = 1e-3
@@ -144,3 +145,34 @@ def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior) -> dict:
             curve_share=max(0.0, 1.0 - var_both / var_prior),
         )
     return {"covariance": covariance, "shares": shares}
+
+
+def noise_scale(objective, u0, noise, max_iter: int, tol: float, p: int) -> float:
+    """σ of ln K: `noise` if given, else the residuals' scale of the curve alone, `√(Σr²/(N − p))` at its
+    least-squares optimum from `u0` (a ridge leaves the parameters open, not the misfit)."""
+    if noise is not None:
+        if not (isinstance(noise, (int, float)) and math.isfinite(noise) and noise > 0):
+            raise InputError(f"noise = {noise!r} must be > 0 (valid range (0, inf)): σ of ln K")
+        return float(noise)
+    r = objective(run_lm(objective, u0, max_iter, tol).u)[0]
+    return max(math.sqrt(float(r @ r) / max(r.size - p, 1)), NOISE_FLOOR)
+
+
+def with_prior(result, fitted, scene, data, n_points, stat_hat, gaussian, sigma):
+    """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
+    information report by parameter name."""
+    _, ok, _, J = (np.asarray(x)[:n_points] for x in residuals_and_jacobian(stat_hat, scene, fitted, *data))
+    post = posterior(J[ok], sigma, gaussian)
+    covariance = post["covariance"]
+    spread = np.sqrt(np.diag(covariance))
+    stderr, ci95 = {}, {}
+    for i, p in enumerate(fitted):
+        value = result["values"][p.name]
+        stderr[p.name] = value * spread[i] if p.log else spread[i]
+        lo, hi = (float(p.from_stat(stat_hat[i] + k * 1.959964 * spread[i])) for k in (-1, 1))
+        ci95[p.name] = (lo, hi) if p.log else (max(lo, p.low), min(hi, p.high))
+    information = {fitted[i].name: share for i, share in post["shares"].items()}
+    updated = dict(
+        result, covariance=covariance, stderr=stderr, ci95=ci95, correlation=covariance / np.outer(spread, spread)
+    )
+    return updated, information

@@ -105,7 +105,12 @@ class FitResult:
                 for c in self.identifiability
             ],
             "profiles": {
-                name: {"values": p.values.tolist(), "delta_chi2": p.delta_chi2.tolist(), "ci95": list(p.ci95)}
+                name: {
+                    "values": p.values.tolist(),
+                    "delta_chi2": p.delta_chi2.tolist(),
+                    "ci95": list(p.ci95),
+                    "ends_reached": list(p.reached),
+                }
                 for name, p in self.profiles.items()
             },
             "information": self.information,

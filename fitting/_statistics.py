@@ -192,7 +192,11 @@ def misfit_warning(log_loads, log_stiffness, residuals) -> str | None:
         return None
     rms = float(np.sqrt(np.mean(residuals * residuals)))
     scatter = point_scatter(log_loads, log_stiffness)
-    if rms <= _NEGLIGIBLE_MISFIT or not (rms > 3 * scatter):
+    # A few points estimate the scatter poorly: the ratio must also exceed what chance gives one curve
+    # in a thousand (an F quantile; 3 is the larger from ~30 points on).
+    n = residuals.size
+    factor = max(3.0, math.sqrt(float(special.fdtri(n, max(n - 2, 1), 0.999))))
+    if rms <= _NEGLIGIBLE_MISFIT or not (rms > factor * scatter):
         return None
     return (
         f"the rms misfit ({100 * rms:.3g} % in K) is {f'{rms / scatter:.3g}x' if scatter > 0 else 'far above'} the "

@@ -48,6 +48,7 @@ from helpers import TABLE1, make_scene  # noqa: E402
 # tests for the end, with one worker idle. Files not named follow in their usual order.
 LONGEST_FIRST = (
     "test_hard_cases.py",
+    "test_posterior.py",
     "test_contract.py",
     "test_fitting.py",
     "test_dynamics.py",

@@ -59,7 +59,10 @@ def compare_measured(args, out, cache, progress) -> int:
     topography, coarsening = _on_grid(topography, args.grid)
     spec = compare_spec(args)
     lx, ly = topography.physical_sizes
-    scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (c.surface, np.asarray(lx * ly)))
+    # The models see the surface the BEM sees: no wavelength shorter than the (coarsened) grid holds.
+    l_min = max(c.l_min, 2 * lx / topography.nb_grid_pts[0])
+    surface = eqx.tree_at(lambda s: s.l_min, c.surface, l_min)
+    scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (surface, np.asarray(lx * ly)))
     loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
     result = bem_stiffness(
         topography, float(scene.material.E), loads, substrate=args.substrate, cache=cache, progress=progress

@@ -15,9 +15,10 @@ import traceback
 
 from ..numerics._compat import avoid_host_callbacks_in_checks
 from ..numerics._validate import InputError, MissingExtraError, command_line_spelling
-from ._commands import cmd_approach, cmd_dynamics, cmd_fit, cmd_run
+from ._commands import cmd_approach, cmd_dynamics, cmd_run
 from ._compare_commands import cmd_compare
 from ._compare_table import DEFAULT_COMPARE_SCENE, add_compare_options
+from ._fit_commands import cmd_fit
 from ._output import CommandError
 from ._process import command_settings, plotting_imported_while_compiling, warnings_as_lines
 from ._study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
@@ -142,7 +143,18 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="NAME=MEAN:SD|NAME=LOW..HIGH",
         help="a prior on a fitted parameter, e.g. D=1.45:0.05 (Gaussian) or D=1.3..1.6 (bounds); repeatable",
     )
-    p.add_argument("--noise", type=float, help="σ of ln K (default: the data's own point-to-point scatter)")
+    p.add_argument(
+        "--noise",
+        type=float,
+        help="σ of ln K, which weighs the curve against a prior (default: the residuals' scale of the curve alone)",
+    )
+    p.add_argument(
+        "--posterior",
+        action="store_true",
+        help="also sample the posterior by NUTS (the bayes extra): 4 chains, corner.png, posterior_band.png",
+    )
+    p.add_argument("--draws", type=int, default=500, help="with --posterior: draws per chain (default: 500)")
+    p.add_argument("--seed", type=int, default=0, help="with --posterior: the sampler's seed (default: 0)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
 

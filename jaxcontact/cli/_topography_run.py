@@ -8,15 +8,13 @@ import pathlib
 
 import numpy as np
 
-# docs/validation.md: over L/l_min = 16…128 Persson's K stays within 0.92–1.06 of the elastic BEM on the
-# same surface; GW grows as (L/l_min)^0.13–0.16 and the seed model as (L/l_min)^0.24–0.38 from it.
-CLOSEST_TO_BEM = "persson"
 # Models left out of the comparison, and why (each is a few minutes per curve, not seconds).
 NOT_COMPARED = {"bem": "the boundary-element model solves the surface itself: jaxcontact compare --topography FILE"}
 
 
 def add_run_topography_options(p) -> None:
     from ..models import MODELS
+    from ._surface_commands import CLOSEST_TO_BEM
 
     p.add_argument(
         "--model",
@@ -70,7 +68,7 @@ def topography_run(spec, args):
     from ..models import MODELS
     from ..quantities import Surface
     from ..topography import stiffness_band
-    from ._surface_commands import characterise_file
+    from ._surface_commands import CLOSEST_TO_BEM, characterise_file
 
     _, c = characterise_file(args)
     surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)

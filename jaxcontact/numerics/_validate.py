@@ -49,7 +49,7 @@ def assigned(name: str, value: str, meaning: str = "") -> str:
 
 
 # The optional packages, and the extra of jaxcontact that installs each (`pyproject.toml`).
-EXTRAS = {"SurfaceTopography": "surface", "ContactMechanics": "bem", "mpmath": "studies"}
+EXTRAS = {"SurfaceTopography": "surface", "ContactMechanics": "bem", "mpmath": "studies", "blackjax": "bayes"}
 
 
 class MissingExtraError(ImportError):

@@ -1,0 +1,200 @@
+"""A posterior by NUTS where the Laplace approximation is poor (ridges, bounds, kinks): the fit's
+parameters in its unconstrained coordinates, the model's exact gradients, blackjax's sampler
+(docs/fitting.md, "Posterior by NUTS").
+
+The log density in the optimiser coordinates `u` (statistical coordinate `s = low + (high − low)·
+sigmoid(u)`) is `−½ Σ (r_i/σ)² + ln prior(s) + ln |ds/du|`: flat in the statistical coordinates
+within the bounds (D and ν uniform, the scales log-uniform), times the Gaussian prior where one is
+given. σ is the curve's noise in ln K, as the fit's (`noise`, or the residuals' scale of the curve
+fitted alone), held fixed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+import jaxcontact as jc
+from jaxcontact.core import prepare
+
+from ._nuts import run_chains
+from ._parameters import resolve
+from ._prior import resolve_prior
+from ._residuals import residuals_and_status
+
+
+@dataclasses.dataclass(frozen=True)
+class Posterior:
+    """Samples of the fitted parameters and what they say.
+
+    **Fields:** `params`; `samples` (by name, physical values, shape (chains, draws)); `mean`, `sd`,
+    `ci95` (2.5 and 97.5 % quantiles) by name; `ess` and `rhat` by name; `acceptance`; `divergences`;
+    `sigma` (the noise in ln K held fixed); `band` (loads, and the 2.5, 50 and 97.5 % quantiles of the
+    predicted K over the samples); `times` (s: `start`, the least-squares start; `adaptation`, with its
+    compilation; the sampler's `compilation`; `sampling`, the compiled run).
+    """
+
+    params: tuple[str, ...]
+    samples: dict
+    mean: dict
+    sd: dict
+    ci95: dict
+    ess: dict
+    rhat: dict
+    acceptance: float
+    divergences: int
+    sigma: float
+    band: tuple
+    times: dict
+
+    def summary(self) -> str:
+        lines = [
+            f"posterior by NUTS: {next(iter(self.samples.values())).shape[0]} chains × "
+            f"{next(iter(self.samples.values())).shape[1]} draws, acceptance {self.acceptance:.2f}, "
+            f"{self.divergences} divergent; σ(ln K) = {self.sigma:.3g}; sampling {self.times['sampling']:.1f} s "
+            f"(compiling it {self.times['compilation']:.1f} s, adaptation {self.times['adaptation']:.1f} s)"
+        ]
+        for name in self.params:
+            lo, hi = self.ci95[name]
+            lines.append(
+                f"  {name:6s} mean {self.mean[name]:.6g} sd {self.sd[name]:.3g}   95 % [{lo:.6g}, {hi:.6g}]   "
+                f"ESS {self.ess[name]:.0f}, R-hat {self.rhat[name]:.3f}"
+            )
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {
+            "params": list(self.params),
+            "mean": self.mean,
+            "sd": self.sd,
+            "ci95": {k: list(v) for k, v in self.ci95.items()},
+            "ess": self.ess,
+            "rhat": self.rhat,
+            "acceptance": self.acceptance,
+            "divergences": self.divergences,
+            "sigma": self.sigma,
+            "band": {k: np.asarray(v).tolist() for k, v in zip(("load_N", "lower", "median", "upper"), self.band)},
+            "times_s": self.times,
+        }
+
+
+def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
+    """The log density in optimiser coordinates `u` (a JAX function), for `run_chains`."""
+    low = jnp.array([p.stat_bounds[0] for p in fitted])
+    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
+    if gaussian is not None:
+        index, mean, precision = list(gaussian.index), jnp.asarray(gaussian.mean), jnp.linalg.inv(gaussian.covariance)
+
+    def logdensity(u):
+        stat = low + span * jax.nn.sigmoid(u)
+        r, _, _ = residuals_and_status(stat, scene, fitted, loads, log_stiffness)
+        value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
+        if gaussian is not None:
+            d = stat[jnp.asarray(index)] - mean
+            value = value - 0.5 * d @ precision @ d
+        return value
+
+    return logdensity
+
+
+def sample(
+    loads,
+    stiffness,
+    scene: jc.Scene,
+    params=("D", "G"),
+    *,
+    prior=None,
+    noise: float | None = None,
+    chains: int = 4,
+    draws: int = 500,
+    warmup: int = 500,
+    seed: int = 0,
+    band_samples: int = 200,
+) -> Posterior:
+    """Sample the posterior of `params` given a stiffness curve (and a prior) by NUTS.
+
+    **Arguments:** as `fitting.fit` (`loads`, `stiffness`, `scene`, `params`, `prior`, `noise`), and
+    `chains`, `draws` (per chain), `warmup` (adaptation steps), `seed`, `band_samples` (samples, evenly
+    thinned, through which the predicted K band is drawn).
+
+    **Returns:** a `Posterior`. The chains start at the least-squares (or MAP) estimate of `fitting.fit`.
+    """
+    from ._fit import fit, model_stiffness
+
+    for name, value in (("chains", chains), ("draws", draws), ("warmup", warmup)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < (2 if name == "chains" else 10):
+            raise jc.InputError(f"{name} = {value!r} must be an integer >= {2 if name == 'chains' else 10}")
+    t0 = time.perf_counter()
+    start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed)
+    fitted = resolve(params)
+    gaussian, bounds = resolve_prior(prior, fitted)
+    fitted = tuple(
+        dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted
+    )
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    log_stiffness = np.log(np.asarray(stiffness, dtype=float).reshape(-1))
+    used = np.isfinite(start.residuals)
+    sigma = (
+        float(noise)
+        if noise is not None
+        else max(math.sqrt(float(np.sum(start.residuals[used] ** 2)) / max(used.sum() - len(fitted), 1)), 1e-3)
+    )
+    traced, _ = prepare(scene, loads)
+    dtype = jnp.result_type(1.0)
+    logdensity = log_density(
+        traced, fitted, jnp.asarray(loads, dtype), jnp.asarray(log_stiffness, dtype), sigma, gaussian
+    )
+    u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *_inside(p))) for p in fitted])
+    t1 = time.perf_counter()
+    chains_ = run_chains(logdensity, jnp.asarray(u0, dtype), chains=chains, warmup=warmup, draws=draws, seed=seed)
+    stat = np.stack(
+        [[p.stat_from_u(x) for p, x in zip(fitted, row)] for row in chains_.positions.reshape(-1, len(fitted))]
+    )
+    physical = {
+        p.name: np.array([p.from_stat(s) for s in stat[:, i]]).reshape(chains, draws) for i, p in enumerate(fitted)
+    }
+    thinned = stat[np.linspace(0, stat.shape[0] - 1, min(band_samples, stat.shape[0])).astype(int)]
+    curves = []
+    for row in thinned:
+        moved = scene
+        for p, s in zip(fitted, row):
+            moved = _with(moved, p, s)
+        curves.append(model_stiffness(moved, [p.name for p in fitted], loads))
+    curves = np.array(curves)
+    band = (loads, *np.nanpercentile(curves, [2.5, 50, 97.5], axis=0))
+    names = [p.name for p in fitted]
+    return Posterior(
+        params=tuple(names),
+        samples=physical,
+        mean={n: float(np.mean(physical[n])) for n in names},
+        sd={n: float(np.std(physical[n])) for n in names},
+        ci95={n: tuple(float(q) for q in np.percentile(physical[n], [2.5, 97.5])) for n in names},
+        ess={n: float(chains_.ess[i]) for i, n in enumerate(names)},
+        rhat={n: float(chains_.rhat[i]) for i, n in enumerate(names)},
+        acceptance=chains_.acceptance,
+        divergences=chains_.divergences,
+        sigma=sigma,
+        band=band,
+        times={
+            "start": t1 - t0,
+            "adaptation": chains_.adaptation,
+            "compilation": chains_.compilation,
+            "sampling": chains_.sampling,
+        },
+    )
+
+
+def _inside(p):
+    lo, hi = p.stat_bounds
+    return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
+
+
+def _with(scene, p, s):
+    import equinox as eqx
+
+    return eqx.tree_at(p.get, scene, p.from_stat(s))
