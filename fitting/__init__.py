@@ -5,6 +5,7 @@ with estimates, standard errors, 95 % intervals, correlations and what the curve
 `sample(...)` (the `bayes` extra) a `Posterior` by NUTS.
 """
 
+from ._batch import BatchResult, fit_batch
 from ._data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
 from ._fit import METHODS, fit, model_stiffness, starting_points
 from ._identifiability import Combination, Profile
@@ -16,6 +17,8 @@ from ._result import FitResult
 
 __all__ = [
     "fit",
+    "fit_batch",
+    "BatchResult",
     "model_stiffness",
     "fit_resonance",
     "FitResult",

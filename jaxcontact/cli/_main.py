@@ -177,6 +177,12 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="time the JAX boundary-element solve against ContactMechanics instead (256², 512², 1024²; minutes)",
     )
+    p.add_argument(
+        "--fit-batch",
+        type=int,
+        metavar="CURVES",
+        help="time fitting.fit_batch on this many 30-point curves against looping fitting.fit instead (minutes)",
+    )
     for command in sub.choices.values():
         command.set_defaults(options_by_name=_options_by_name(command))
     return parser

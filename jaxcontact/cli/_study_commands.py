@@ -23,6 +23,8 @@ def cmd_bench(args) -> int:
 
     if args.bem:
         return _bench_bem(args)
+    if args.fit_batch:
+        return _bench_fit_batch(args)
     from ..programs import exported_programs
     from ..studies._bench import run_all
     from ..studies._bench_report import format_markdown, format_results
@@ -63,6 +65,24 @@ def _bench_bem(args) -> int:
     (out / "bench_bem.txt").write_text(text + "\n")
     (out / "bench_bem.json").write_text(to_json(results) + "\n")
     files = [str(out / "bench_bem.txt"), str(out / "bench_bem.json")]
+    print_result({**results, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def _bench_fit_batch(args) -> int:
+    from ..studies._fit_bench import format_fit_bench, run_fit_bench
+    from ._report import to_json
+    from ._scenefile import load_scene
+
+    if args.fit_batch < 1:
+        raise CommandError(f"--fit-batch {args.fit_batch} must be a number of curves >= 1")
+    results = run_fit_bench(load_scene(args.scene).scene, curves=args.fit_batch)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    text = format_fit_bench(results)
+    (out / "bench_fit_batch.txt").write_text(text + "\n")
+    (out / "bench_fit_batch.json").write_text(to_json(results) + "\n")
+    files = [str(out / "bench_fit_batch.txt"), str(out / "bench_fit_batch.json")]
     print_result({**results, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
     return 0
 

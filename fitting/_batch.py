@@ -1,0 +1,228 @@
+"""Many curves at once: one compiled, `vmap`ped fit per curve (and start) with optax's L-BFGS and its
+zoom line search on the model's exact gradients (docs/fitting.md, "Many curves at once").
+
+Each curve is fitted as `fitting.fit` fits one: ln-stiffness residuals, the bounded
+reparameterisation `s = low + (high − low)·sigmoid(u)`, several starts (a Latin hypercube, the
+scene's values one of them), the best kept; then the Gauss–Newton covariance at its optimum, Student-t
+intervals and the identifiability of its combinations, per curve. The whole batch is one XLA program:
+on an accelerator the curves run in parallel.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy import special
+
+import jaxcontact as jc
+from jaxcontact import InputError
+from jaxcontact.core import prepare
+
+from ._identifiability import combinations
+from ._parameters import resolve
+from ._residuals import residuals_and_status
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchResult:
+    """Per curve (leading axis of every array): `values`, `stderr`, `ci95` (dicts by name of arrays;
+    `ci95[name]` has shape (curves, 2)), `correlation` (curves, p, p), `loss` (½ mean r²), `iterations`,
+    `success` (converged, finite, enough valid points), `flagged` (valid-point mask is its negation:
+    shape (curves, points)), `determined` (curves, p: whether each Fisher combination is determined),
+    `warnings` (a tuple of strings per curve), `wall_time` (s, compilation included) and `compile_time`
+    (0 where a batch of the same shape was compiled before in this process)."""
+
+    params: tuple[str, ...]
+    values: dict
+    stderr: dict
+    ci95: dict
+    correlation: np.ndarray
+    loss: np.ndarray
+    iterations: np.ndarray
+    success: np.ndarray
+    flagged: np.ndarray
+    determined: np.ndarray
+    warnings: tuple
+    wall_time: float
+    compile_time: float
+
+
+def _solver(scene, fitted, loads, log_stiffness, max_iter: int, tol: float):
+    """One curve's fit from one start `u0`: optax L-BFGS until the gradient's norm or the loss's relative
+    progress falls below `tol`, or `max_iter` steps."""
+    import optax
+
+    low = jnp.array([p.stat_bounds[0] for p in fitted])
+    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
+
+    def loss(u):
+        r, _, _ = residuals_and_status(low + span * jax.nn.sigmoid(u), scene, fitted, loads, log_stiffness)
+        return 0.5 * jnp.mean(r * r)
+
+    optimiser = optax.lbfgs()
+    value_and_grad = optax.value_and_grad_from_state(loss)
+
+    def body(carry):
+        u, state, value, _, k = carry
+        new_value, grad = value_and_grad(u, state=state)
+        updates, state = optimiser.update(grad, state, u, value=new_value, grad=grad, value_fn=loss)
+        return optax.apply_updates(u, updates), state, new_value, value, k + 1
+
+    def going(carry):
+        _, state, value, previous, k = carry
+        grad = optax.tree_utils.tree_get(state, "grad")
+        small = (jnp.linalg.norm(grad) < tol) | (jnp.abs(previous - value) <= tol * jnp.abs(value))
+        return (k < max_iter) & ~((k > 2) & small)
+
+    def run(u0):
+        init = (u0, optimiser.init(u0), jnp.asarray(jnp.inf, u0.dtype), jnp.asarray(jnp.inf, u0.dtype), 0)
+        u, _, _, _, k = jax.lax.while_loop(going, body, init)
+        return u, loss(u), k
+
+    return run
+
+
+def fit_batch(
+    loads,
+    stiffness,
+    scene: jc.Scene,
+    params=("D", "G"),
+    *,
+    n_starts: int = 4,
+    seed: int = 0,
+    max_iter: int = 200,
+    tol: float = 1e-10,
+) -> BatchResult:
+    """Fit `params` to many stiffness curves at once, one compiled program for all of them.
+
+    **Arguments:** `loads`, `stiffness` (N, N/m; shape (curves, points), all positive); `scene` (what is not
+    fitted, shared by the curves, and one start); `params`; `n_starts` (per curve); `seed` (of the
+    Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the gradient's norm and the
+    loss's relative progress).
+
+    **Returns:** a `BatchResult`.
+    """
+    from ._fit import starting_points
+    from ._statistics import inner_bounds
+
+    t0 = time.perf_counter()
+    fitted = resolve(params)
+    loads = np.atleast_2d(np.asarray(loads, dtype=float))
+    stiffness = np.atleast_2d(np.asarray(stiffness, dtype=float))
+    if loads.shape != stiffness.shape:
+        raise InputError(f"loads {loads.shape} and stiffness {stiffness.shape} differ in shape (curves, points)")
+    if loads.shape[1] <= len(fitted):
+        raise InputError(f"{loads.shape[1]} points per curve cannot determine {len(fitted)} parameters")
+    for name, values in (("loads", loads), ("stiffness", stiffness)):
+        if not np.all(np.isfinite(values) & (values > 0)):
+            raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
+    if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
+        raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
+    traced, _ = prepare(scene, loads[0])
+    dtype = jnp.result_type(1.0)
+    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
+    u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
+    leaves, treedef = jax.tree_util.tree_flatten(traced)
+    args = (leaves, jnp.asarray(loads, dtype), jnp.asarray(np.log(stiffness), dtype), u0s)
+    key = (treedef, fitted, max_iter, tol, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+    t1 = time.perf_counter()
+    if key not in _PROGRAMS:
+        _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
+    compile_time = time.perf_counter() - t1
+    u, loss, k, r, ok, J = (np.asarray(x) for x in _PROGRAMS[key](*args))
+    return _statistics(fitted, u, loss, k, r, ok, J, max_iter, time.perf_counter() - t0, compile_time)
+
+
+# Compiled batch programs, by scene structure, fitted parameters, settings and argument shapes: a
+# second batch of the same shape (other curves, other fixed values) compiles nothing.
+_PROGRAMS: dict = {}
+
+
+def _program(treedef, fitted, max_iter: int, tol: float):
+    """(scene leaves, loads, ln K, starts) ↦ vmap over curves of (vmap over starts of the solver, the
+    best start, its residuals and Jacobian)."""
+    low = jnp.array([p.stat_bounds[0] for p in fitted])
+    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
+
+    def one_curve(scene, loads, log_stiffness, u0s):
+        run = _solver(scene, fitted, loads, log_stiffness, max_iter, tol)
+        us, losses, ks = jax.vmap(run)(u0s)
+        best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
+        stat = low + span * jax.nn.sigmoid(us[best])
+
+        def residuals(s):
+            r, ok, _ = residuals_and_status(s, scene, fitted, loads, log_stiffness)
+            return r, (r, ok)
+
+        J, (r, ok) = jax.jacfwd(residuals, has_aux=True)(stat)
+        return us[best], losses[best], ks[best], r, ok, J
+
+    def batch(leaves, loads, log_stiffness, u0s):
+        scene = jax.tree_util.tree_unflatten(treedef, leaves)
+        return jax.vmap(one_curve, in_axes=(None, 0, 0, None))(scene, loads, log_stiffness, u0s)
+
+    return batch
+
+
+def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time) -> BatchResult:
+    """Per curve: Gauss–Newton covariance on its valid points, Student-t intervals, identifiability, warnings."""
+    p = len(fitted)
+    curves = u.shape[0]
+    stat = np.array([[q.stat_from_u(x) for q, x in zip(fitted, row)] for row in u])
+    values = {q.name: np.array([float(q.from_stat(s)) for s in stat[:, i]]) for i, q in enumerate(fitted)}
+    stderr = {q.name: np.full(curves, np.nan) for q in fitted}
+    ci95 = {q.name: np.full((curves, 2), np.nan) for q in fitted}
+    correlation = np.full((curves, p, p), np.nan)
+    determined = np.zeros((curves, p), bool)
+    warnings = []
+    for c in range(curves):
+        used = ok[c]
+        n = int(used.sum())
+        notes = []
+        if k[c] >= max_iter:
+            notes.append(f"did not converge in {max_iter} L-BFGS steps")
+        if n < r.shape[1]:
+            notes.append(f"{r.shape[1] - n} of {r.shape[1]} points are outside the model at the optimum")
+        if n > p:
+            Jc, rc = J[c][used], r[c][used]
+            s2 = float(rc @ rc) / (n - p)
+            JTJ = Jc.T @ Jc
+            if np.linalg.matrix_rank(JTJ) == p and s2 > 0:
+                inverse = np.linalg.inv(JTJ)
+                spread = np.sqrt(np.diag(inverse))
+                correlation[c] = inverse / np.outer(spread, spread)
+                t = special.stdtrit(n - p, 0.975)
+                for i, q in enumerate(fitted):
+                    se = math.sqrt(s2 * inverse[i, i])
+                    stderr[q.name][c] = values[q.name][c] * se if q.log else se
+                    lo, hi = float(q.from_stat(stat[c, i] - t * se)), float(q.from_stat(stat[c, i] + t * se))
+                    ci95[q.name][c] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
+                found = combinations(fitted, JTJ / s2)
+                determined[c] = [f.determined for f in found]
+                if not all(determined[c]):
+                    notes.append("the curve leaves a combination of the parameters open (see `determined`)")
+        for i, q in enumerate(fitted):
+            if abs(u[c, i]) > 12:
+                notes.append(f"{q.name} = {values[q.name][c]:.4g} is at the edge of its bounds")
+        warnings.append(tuple(notes))
+    success = (k < max_iter) & np.isfinite(loss) & (ok.sum(axis=1) > p)
+    return BatchResult(
+        params=tuple(q.name for q in fitted),
+        values=values,
+        stderr=stderr,
+        ci95=ci95,
+        correlation=correlation,
+        loss=np.asarray(loss, dtype=float),
+        iterations=np.asarray(k),
+        success=success,
+        flagged=~ok,
+        determined=determined,
+        warnings=tuple(warnings),
+        wall_time=wall_time,
+        compile_time=compile_time,
+    )
