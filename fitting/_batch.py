@@ -95,15 +95,18 @@ def fit_batch(
     *,
     n_starts: int = 4,
     seed: int = 0,
-    max_iter: int = 200,
+    max_iter: int = 100,
     tol: float = 1e-10,
+    chunk: int = 32,
 ) -> BatchResult:
     """Fit `params` to many stiffness curves at once, one compiled program for all of them.
 
     **Arguments:** `loads`, `stiffness` (N, N/m; shape (curves, points), all positive); `scene` (what is not
     fitted, shared by the curves, and one start); `params`; `n_starts` (per curve); `seed` (of the
     Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the gradient's norm and the
-    loss's relative progress).
+    loss's relative progress); `chunk` (curves per call of the compiled program: a `vmap`ped loop runs
+    until its slowest lane ends, so one start that needs many steps holds its chunk, not the batch; on
+    an accelerator a larger chunk fills it better).
 
     **Returns:** a `BatchResult`.
     """
@@ -127,14 +130,25 @@ def fit_batch(
     dtype = jnp.result_type(1.0)
     own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
     u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
     leaves, treedef = jax.tree_util.tree_flatten(traced)
-    args = (leaves, jnp.asarray(loads, dtype), jnp.asarray(np.log(stiffness), dtype), u0s)
-    key = (treedef, fitted, max_iter, tol, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
-    t1 = time.perf_counter()
-    if key not in _PROGRAMS:
-        _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
-    compile_time = time.perf_counter() - t1
-    u, loss, k, r, ok, J = (np.asarray(x) for x in _PROGRAMS[key](*args))
+    curves = loads.shape[0]
+    size = min(chunk, curves)
+    # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
+    padded = lambda a: np.concatenate([a, np.repeat(a[:1], -curves % size, axis=0)])  # noqa: E731
+    all_loads, all_log_stiffness = padded(loads), padded(np.log(stiffness))
+    outputs, compile_time = [], 0.0
+    for start in range(0, all_loads.shape[0], size):
+        part = slice(start, start + size)
+        args = (leaves, jnp.asarray(all_loads[part], dtype), jnp.asarray(all_log_stiffness[part], dtype), u0s)
+        key = (treedef, fitted, max_iter, tol, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+        if key not in _PROGRAMS:
+            t1 = time.perf_counter()
+            _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
+            compile_time += time.perf_counter() - t1
+        outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
+    u, loss, k, r, ok, J = (np.concatenate(parts)[:curves] for parts in zip(*outputs))
     return _statistics(fitted, u, loss, k, r, ok, J, max_iter, time.perf_counter() - t0, compile_time)
 
 

@@ -9,7 +9,7 @@ import time
 import numpy as np
 
 
-def run_fit_bench(scene, curves: int = 1000, points: int = 30, looped: int = 20, repeats: int = 3) -> dict:
+def run_fit_bench(scene, curves: int = 1000, points: int = 30, looped: int = 20, repeats: int = 2) -> dict:
     """Seed-model curves of `scene` (F* = 1e-10…1e-4, 5 % noise, one seed each); the batch timed
     `repeats` times after its first (compiling) call; `fitting.fit` on `looped` of them after a first
     (compiling) fit, its per-curve times scaled to `curves`."""
