@@ -372,6 +372,36 @@ def test_bench_bem_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     assert json.loads((tmp_path / "bench_bem.json").read_text())["per_point_256"]["jax_tangent"]["speedup"] == 9.0
 
 
+_FIT_BENCH = {
+    "device": "cpu",
+    "curves": 1000,
+    "points": 30,
+    "batch_first_call_s": 190.0,
+    "batch_compile_s": 75.0,
+    "batch_s": {"median": 110.0, "best": 100.0},
+    "loop_per_curve_s": {"median": 0.08, "best": 0.04},
+    "loop_s_scaled": {"median": 80.0, "best": 40.0},
+    "ratio": {"median": 80.0 / 110.0, "best": 0.4},
+    "success": 1.0,
+    "max_abs_D_difference": 3e-6,
+}
+
+
+def test_bench_fit_batch_reports_the_ratio_to_the_loop(tmp_path, capsys, monkeypatch):
+    from jaxcontact.studies import _fit_bench
+
+    monkeypatch.setattr(_fit_bench, "run_fit_bench", lambda scene, curves: dict(_FIT_BENCH, curves=curves))
+    assert main(["bench", "--fit-batch", "1000", "--out", str(tmp_path), "--no-progress"]) == 0
+    capsys.readouterr()
+    lines = (tmp_path / "bench_fit_batch.txt").read_text().splitlines()
+    assert lines[3].startswith("  ratio (loop / batch): 0.727× (median), 0.4× (best)")
+
+
+def test_bench_fit_batch_refuses_no_curves(tmp_path, capsys):
+    assert main(["bench", "--fit-batch", "0", "--out", str(tmp_path)]) == 2
+    assert "--fit-batch 0 must be a number of curves >= 1" in capsys.readouterr().err
+
+
 def test_bench_compiles_without_the_persistent_cache(tmp_path, capsys, monkeypatch):
     """The bench's compile times are compilations, not reads of `JAXCONTACT_CACHE`."""
     import jax

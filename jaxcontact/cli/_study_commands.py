@@ -23,7 +23,7 @@ def cmd_bench(args) -> int:
 
     if args.bem:
         return _bench_bem(args)
-    if args.fit_batch:
+    if args.fit_batch is not None:
         return _bench_fit_batch(args)
     from ..programs import exported_programs
     from ..studies._bench import run_all
@@ -54,37 +54,34 @@ def cmd_bench(args) -> int:
 def _bench_bem(args) -> int:
     from ..numerics import optional_import
     from ..studies._bem_bench import format_bem_bench, run_bem_bench
-    from ._report import to_json
 
     optional_import("ContactMechanics", "jaxcontact bench --bem's comparison")
     progress = progress_bar(args.progress, "boundary-element benchmarks", "step")
     results = run_bem_bench(progress=progress)
+    return _written(args, "bench_bem", results, format_bem_bench(results))
+
+
+def _written(args, name: str, results: dict, text: str) -> int:
+    """`NAME.txt` (the text) and `NAME.json` (the results) in `args.out`, and the output printed."""
+    from ._report import to_json
+
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    text = format_bem_bench(results)
-    (out / "bench_bem.txt").write_text(text + "\n")
-    (out / "bench_bem.json").write_text(to_json(results) + "\n")
-    files = [str(out / "bench_bem.txt"), str(out / "bench_bem.json")]
+    (out / f"{name}.txt").write_text(text + "\n")
+    (out / f"{name}.json").write_text(to_json(results) + "\n")
+    files = [str(out / f"{name}.txt"), str(out / f"{name}.json")]
     print_result({**results, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
     return 0
 
 
 def _bench_fit_batch(args) -> int:
     from ..studies._fit_bench import format_fit_bench, run_fit_bench
-    from ._report import to_json
     from ._scenefile import load_scene
 
     if args.fit_batch < 1:
         raise CommandError(f"--fit-batch {args.fit_batch} must be a number of curves >= 1")
     results = run_fit_bench(load_scene(args.scene).scene, curves=args.fit_batch)
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    text = format_fit_bench(results)
-    (out / "bench_fit_batch.txt").write_text(text + "\n")
-    (out / "bench_fit_batch.json").write_text(to_json(results) + "\n")
-    files = [str(out / "bench_fit_batch.txt"), str(out / "bench_fit_batch.json")]
-    print_result({**results, "files": files}, args.format, text + "\n\n" + "\n".join(f"wrote {f}" for f in files))
-    return 0
+    return _written(args, "bench_fit_batch", results, format_fit_bench(results))
 
 
 def cmd_accuracy(args) -> int:
