@@ -49,6 +49,9 @@ from helpers import TABLE1, make_scene  # noqa: E402
 LONGEST_FIRST = (
     "test_hard_cases.py",
     "test_posterior.py",
+    "test_topography_band.py",
+    "test_inference.py",
+    "test_fit_batch.py",
     "test_contract.py",
     "test_fitting.py",
     "test_dynamics.py",
