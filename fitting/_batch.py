@@ -24,7 +24,7 @@ from jaxcontact import InputError
 from jaxcontact.core import prepare
 
 from ._identifiability import combinations
-from ._parameters import resolve
+from ._parameters import resolve, stat_of_u
 from ._residuals import residuals_and_status
 
 
@@ -57,11 +57,8 @@ def _solver(scene, fitted, loads, log_stiffness, max_iter: int, tol: float):
     progress falls below `tol`, or `max_iter` steps."""
     import optax
 
-    low = jnp.array([p.stat_bounds[0] for p in fitted])
-    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
-
     def loss(u):
-        r, _, _ = residuals_and_status(low + span * jax.nn.sigmoid(u), scene, fitted, loads, log_stiffness)
+        r, _, _ = residuals_and_status(stat_of_u(fitted, u), scene, fitted, loads, log_stiffness)
         return 0.5 * jnp.mean(r * r)
 
     optimiser = optax.lbfgs()
@@ -160,14 +157,12 @@ _PROGRAMS: dict = {}
 def _program(treedef, fitted, max_iter: int, tol: float):
     """(scene leaves, loads, ln K, starts) ↦ vmap over curves of (vmap over starts of the solver, the
     best start, its residuals and Jacobian)."""
-    low = jnp.array([p.stat_bounds[0] for p in fitted])
-    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
 
     def one_curve(scene, loads, log_stiffness, u0s):
         run = _solver(scene, fitted, loads, log_stiffness, max_iter, tol)
         us, losses, ks = jax.vmap(run)(u0s)
         best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
-        stat = low + span * jax.nn.sigmoid(us[best])
+        stat = stat_of_u(fitted, us[best])
 
         def residuals(s):
             r, ok, _ = residuals_and_status(s, scene, fitted, loads, log_stiffness)

@@ -16,7 +16,6 @@ statistics and named in `FitResult.warnings`.
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import jax.numpy as jnp
@@ -138,10 +137,7 @@ def fit(
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)
-    gaussian, bounds = resolve_prior(prior, fitted)
-    fitted = tuple(
-        dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted
-    )
+    gaussian, fitted = resolve_prior(prior, fitted)
     loads = np.asarray(loads, dtype=float).reshape(-1)
     stiffness = np.asarray(stiffness, dtype=float).reshape(-1)
     if loads.shape != stiffness.shape:

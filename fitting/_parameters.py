@@ -88,6 +88,14 @@ def resolve(names) -> tuple[FitParameter, ...]:
     return tuple(PARAMETERS[n] for n in names)
 
 
+def stat_of_u(params, u):
+    """The statistical coordinates at optimiser coordinates `u`, as a JAX function (for programs that
+    optimise or sample inside `jit`; `FitParameter.stat_from_u` is the host's, clamped, twin)."""
+    low = jnp.array([p.stat_bounds[0] for p in params])
+    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in params])
+    return low + span * jax.nn.sigmoid(u)
+
+
 def with_stat(scene: jc.Scene, params, stat) -> jc.Scene:
     """The scene with the fitted parameters set from their statistical coordinates."""
     for i, p in enumerate(params):

@@ -23,9 +23,10 @@ import jaxcontact as jc
 from jaxcontact.core import prepare
 
 from ._nuts import run_chains
-from ._parameters import resolve
+from ._parameters import resolve, stat_of_u, with_stat
 from ._prior import resolve_prior
 from ._residuals import residuals_and_status
+from ._statistics import inner_bounds
 
 
 @dataclasses.dataclass(frozen=True)
@@ -85,13 +86,11 @@ class Posterior:
 
 def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
     """The log density in optimiser coordinates `u` (a JAX function), for `run_chains`."""
-    low = jnp.array([p.stat_bounds[0] for p in fitted])
-    span = jnp.array([p.stat_bounds[1] - p.stat_bounds[0] for p in fitted])
     if gaussian is not None:
         index, mean, precision = list(gaussian.index), jnp.asarray(gaussian.mean), jnp.linalg.inv(gaussian.covariance)
 
     def logdensity(u):
-        stat = low + span * jax.nn.sigmoid(u)
+        stat = stat_of_u(fitted, u)
         r, _, _ = residuals_and_status(stat, scene, fitted, loads, log_stiffness)
         value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
         if gaussian is not None:
@@ -132,10 +131,7 @@ def sample(
     t0 = time.perf_counter()
     start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed)
     fitted = resolve(params)
-    gaussian, bounds = resolve_prior(prior, fitted)
-    fitted = tuple(
-        dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted
-    )
+    gaussian, fitted = resolve_prior(prior, fitted)
     loads = np.asarray(loads, dtype=float).reshape(-1)
     log_stiffness = np.log(np.asarray(stiffness, dtype=float).reshape(-1))
     used = np.isfinite(start.residuals)
@@ -149,7 +145,7 @@ def sample(
     logdensity = log_density(
         traced, fitted, jnp.asarray(loads, dtype), jnp.asarray(log_stiffness, dtype), sigma, gaussian
     )
-    u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *_inside(p))) for p in fitted])
+    u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *inner_bounds(p))) for p in fitted])
     t1 = time.perf_counter()
     chains_ = run_chains(logdensity, jnp.asarray(u0, dtype), chains=chains, warmup=warmup, draws=draws, seed=seed)
     stat = np.stack(
@@ -161,10 +157,7 @@ def sample(
     thinned = stat[np.linspace(0, stat.shape[0] - 1, min(band_samples, stat.shape[0])).astype(int)]
     curves = []
     for row in thinned:
-        moved = scene
-        for p, s in zip(fitted, row):
-            moved = _with(moved, p, s)
-        curves.append(model_stiffness(moved, [p.name for p in fitted], loads))
+        curves.append(model_stiffness(with_stat(scene, fitted, row), [p.name for p in fitted], loads))
     curves = np.array(curves)
     band = (loads, *np.nanpercentile(curves, [2.5, 50, 97.5], axis=0))
     names = [p.name for p in fitted]
@@ -187,14 +180,3 @@ def sample(
             "sampling": chains_.sampling,
         },
     )
-
-
-def _inside(p):
-    lo, hi = p.stat_bounds
-    return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
-
-
-def _with(scene, p, s):
-    import equinox as eqx
-
-    return eqx.tree_at(p.get, scene, p.from_stat(s))

@@ -94,14 +94,19 @@ def _stated_prior(prior: dict, fitted):
 
 
 def resolve_prior(prior, fitted):
-    """`(GaussianPrior or None, {name: (low, high)})` from a characterisation, a dict, or None."""
+    """`(GaussianPrior or None, the fitted parameters with the prior's bounds)` from a characterisation,
+    a dict, or None."""
     if prior is None:
-        return None, {}
+        return None, fitted
     if hasattr(prior, "covariance") and hasattr(prior, "D"):
-        return _characterisation_prior(prior, fitted), {}
-    if isinstance(prior, dict):
-        return _stated_prior(prior, fitted)
-    raise InputError(f"prior = {type(prior).__name__} must be a topography Characterisation or a dict by parameter")
+        return _characterisation_prior(prior, fitted), fitted
+    if not isinstance(prior, dict):
+        raise InputError(f"prior = {type(prior).__name__} must be a topography Characterisation or a dict by parameter")
+    gaussian, bounds = _stated_prior(prior, fitted)
+    narrowed = tuple(
+        dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted
+    )
+    return gaussian, narrowed
 
 
 class PriorObjective:
