@@ -6,12 +6,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import special
 
 from ..numerics._validate import InputError, spelled
 from ._band import MIN_MODES, MIN_RATIO, fit_band, select_band
 from ._checks import widened_for_filling
-from ._conventions import log_G_from_profile_prefactor
+from ._conventions import log_G_of_prefactor
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
 
@@ -25,17 +24,9 @@ class NoBandError(InputError):
         self.spectrum, self.local_slope, self.suggestion = spectrum, local_slope, suggestion
 
 
-def _log_G(kind: str, D: float, intercept: float) -> float:
-    """ln G (W-M) from the power law's ln prefactor: `C1D = K1 q^-(5-2D)` or `C2D = C0 q^-(6-2D)`."""
-    if kind == "areal":
-        # C0 = K1 · 2√π Γ(3-D) / Γ(5/2-D) (docs/model.md §8).
-        intercept -= math.log(2 * math.sqrt(math.pi)) + special.gammaln(3 - D) - special.gammaln(2.5 - D)
-    return log_G_from_profile_prefactor(D, intercept)
-
-
 def _D_logG(spectrum, slope: float, intercept: float):
     D = float(spectrum.D_of(slope))
-    return D, (_log_G(spectrum.kind, D, intercept) if 1 < D < 2 else math.nan)
+    return D, (log_G_of_prefactor(spectrum.kind, D, intercept) if 1 < D < 2 else math.nan)
 
 
 def _covariance(spectrum, law) -> np.ndarray:

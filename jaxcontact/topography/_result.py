@@ -9,6 +9,7 @@ import numpy as np
 from scipy import stats
 
 from ..quantities import Surface
+from ._conventions import convert_G, log_prefactor, spectral_slope
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,8 +62,6 @@ class Characterisation:
         """A characterisation by `method` of (D, ln G) over `band` (short, long wavelength, m; l_min its
         short end), its intervals from `covariance` of (D, ln G) with `dof` (D's row and column zero
         where it was `held`); `rest` the other fields."""
-        from ._conventions import convert_G
-
         G = math.exp(log_G)
         if held:
             covariance = covariance.copy()
@@ -94,20 +93,14 @@ class Characterisation:
             # In the fit's own coordinates, where the region is an ellipse: (D, ln G) is a nonlinear
             # map of them (ln G ∝ 1/(D - 1)), which a linearised ellipse misdescribes far from D.
             slope, intercept, covariance = self.power_law
-            difference = np.array([self._slope(D) - slope, self._log_prefactor(D, G) - intercept])
+            difference = np.array(
+                [spectral_slope(self.kind, D) - slope, log_prefactor(self.kind, D, math.log(G)) - intercept]
+            )
         else:
             covariance = self.covariance
             difference = np.array([D - self.D, math.log(G) - math.log(self.G)])
         t2 = difference @ np.linalg.solve(covariance, difference)
         return bool(t2 <= 2 * n / (n - 1) * stats.f.ppf(level, 2, n - 1))
-
-    def _slope(self, D):
-        return -((6.0 if self.kind == "areal" else 5.0) - 2.0 * D)
-
-    def _log_prefactor(self, D, G):
-        from ._conventions import areal_prefactor, profile_prefactor
-
-        return math.log((areal_prefactor if self.kind == "areal" else profile_prefactor)(D, G))
 
     def scene_fragment(self) -> str:
         """The `[surface]` table of a scene file, with where each value came from."""

@@ -7,23 +7,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import optimize, special
+from scipy import optimize
 
 from ..numerics._validate import InputError
 from . import _spectra as spectra
 from ._band import CALIBRATION, select_band
-from ._conventions import GAMMA
+from ._conventions import log_G_of_prefactor, log_prefactor, spectral_slope
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
-
-
-def _log_prefactor(kind: str, D: float, log_G: float) -> float:
-    """ln K1 of `C1D = K1 q^-(5-2D)` (profile) or ln C0 of `C2D = C0 q^-(6-2D)` (areal), docs/model.md §8."""
-    log_K1 = 2 * (D - 1) * log_G + (5 - 2 * D) * math.log(2 * math.pi) - math.log(4 * math.log(GAMMA))
-    if kind == "profile":
-        return log_K1
-    return log_K1 + math.log(2 * math.sqrt(math.pi)) + special.gammaln(3 - D) - special.gammaln(2.5 - D)
 
 
 def _measured(topography, index: int):
@@ -61,8 +53,7 @@ def characterise_stitched(topographies) -> Characterisation:
         D, log_G = theta
         out = []
         for m, (kind, q, y, w) in enumerate(points):
-            slope = -((6.0 if kind == "areal" else 5.0) - 2.0 * D)
-            model = _log_prefactor(kind, D, log_G) + slope * np.log(q)
+            model = log_prefactor(kind, D, log_G) + spectral_slope(kind, D) * np.log(q)
             # The band's own systematic, as for one measurement: its short end moved in by a factor 2.
             kept = q <= q[-1] / 2 if m == trimmed else np.ones(q.size, bool)
             out.append(np.sqrt(w) * (y + (0.0 if shifts is None else shifts[m]) - model) * kept)
@@ -70,8 +61,7 @@ def characterise_stitched(topographies) -> Characterisation:
 
     first_kind, first_spectrum, first = measured[0]
     D0 = float(np.clip(first_spectrum.D_of(first.slope), 1.05, 1.95))
-    # ln prefactor = its value at G = 1 m + 2 (D - 1) ln G.
-    start = [D0, (first.intercept - _log_prefactor(first_kind, D0, 0.0)) / (2 * (D0 - 1))]
+    start = [D0, log_G_of_prefactor(first_kind, D0, first.intercept)]
     bounds = ([1.0 + 1e-6, -np.inf], [2.0 - 1e-6, np.inf])
     fit = optimize.least_squares(residuals, start, bounds=bounds, x_scale=[0.1, 1.0])
     D_hat, log_G_hat = fit.x
@@ -94,8 +84,7 @@ def characterise_stitched(topographies) -> Characterisation:
     q_all = np.concatenate([q for _, q, _, _ in points])
     C_all = np.exp(np.concatenate([y for _, _, y, _ in points]))
     fit_q = np.geomspace(q_all.min(), q_all.max(), 50)
-    exponent = (6.0 if first_kind == "areal" else 5.0) - 2 * D_hat
-    fit_C = np.exp(_log_prefactor(first_kind, D_hat, log_G_hat) - exponent * np.log(fit_q))
+    fit_C = np.exp(log_prefactor(first_kind, D_hat, log_G_hat) + spectral_slope(first_kind, D_hat) * np.log(fit_q))
     return Characterisation.fitted(
         "psd",
         float(D_hat),

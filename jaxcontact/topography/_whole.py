@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from ._conventions import spectral_slope
 from ._spectra import DETREND_DEGREE
 
 BINS_PER_DECADE = 20
@@ -47,10 +48,10 @@ class Spectrum:
 
     def slope_of(self, D: float) -> float:
         """The log-log slope of the W-M power law: `-(6 - 2D)` areal, `-(5 - 2D)` profile."""
-        return -((6.0 if self.kind == "areal" else 5.0) - 2.0 * D)
+        return spectral_slope(self.kind, D)
 
     def D_of(self, slope):
-        return ((6.0 if self.kind == "areal" else 5.0) + slope) / 2.0
+        return (slope - spectral_slope(self.kind, 0.0)) / 2.0
 
 
 def _detrended(heights: np.ndarray) -> np.ndarray:
