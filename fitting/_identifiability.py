@@ -100,9 +100,16 @@ def profile(scene, params, data, n_points: int, stat_hat, s2: float, index: int,
         stat[others] = rest
         return stat
 
+    last = {}
+
     def evaluate(stat):
-        r, _, _, J = residuals_and_jacobian(stat, scene, params, loads, log_stiffness)
-        return np.asarray(r)[:n_points], np.asarray(J)[:n_points][:, others]
+        # scipy asks for the residuals and then the Jacobian at the same point: one program call serves both.
+        key = stat.tobytes()
+        if key not in last:
+            r, _, _, J = residuals_and_jacobian(stat, scene, params, loads, log_stiffness)
+            last.clear()
+            last[key] = (np.asarray(r)[:n_points], np.asarray(J)[:n_points][:, others])
+        return last[key]
 
     def rss_at(value, rest):
         if others:

@@ -24,7 +24,7 @@ from jaxcontact.core import prepare
 
 from ._nuts import run_chains
 from ._parameters import resolve, stat_of_u, with_stat
-from ._prior import resolve_prior
+from ._prior import NOISE_FLOOR, resolve_prior
 from ._residuals import residuals_and_status
 from ._statistics import inner_bounds
 
@@ -138,7 +138,7 @@ def sample(
     sigma = (
         float(noise)
         if noise is not None
-        else max(math.sqrt(float(np.sum(start.residuals[used] ** 2)) / max(used.sum() - len(fitted), 1)), 1e-3)
+        else max(math.sqrt(float(np.sum(start.residuals[used] ** 2)) / max(used.sum() - len(fitted), 1)), NOISE_FLOOR)
     )
     traced, _ = prepare(scene, loads)
     dtype = jnp.result_type(1.0)
