@@ -26,10 +26,11 @@ from jaxcontact import InputError
 from jaxcontact.core import prepare
 
 from ._identifiability import profiles_of
+from ._observed import POINTS_MULTIPLE, observations
 from ._optimise import RUNNERS, Objective
 from ._parameters import FitParameter, resolve, with_stat
 from ._prior import PriorObjective, noise_scale, resolve_prior, with_prior
-from ._residuals import residuals_and_jacobian
+from ._residuals import evaluated
 from ._result import FitResult
 from ._statistics import inner_bounds, rival_optima, statistics
 
@@ -42,24 +43,6 @@ DEFAULT_TOLERANCE = {"bfgs": 1e-15, "lm": 1e-10}
 METHODS = tuple(RUNNERS)
 # Earlier versions ran optax's L-BFGS under this name; scripts that ask for it get BFGS.
 ALIASES = {"lbfgs": "bfgs"}
-
-# Curves are padded to a multiple of this many points (the padding points are cut
-# off before the optimiser sees them), so that fits of curves of different lengths and with
-# different fixed parameter values (the scene's floats are traced) share one compiled model.
-POINTS_MULTIPLE = 64
-
-
-def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
-    """`values` (along the first axis), padded to a multiple of `multiple` with copies of the first."""
-    return np.concatenate([values, np.repeat(values[:1], -len(values) % multiple, axis=0)])
-
-
-def _padded_curve(loads, stiffness, dtype, multiple: int = POINTS_MULTIPLE):
-    """`(loads, ln stiffness)`, padded with copies of the first point (the caller cuts them off)."""
-    return (
-        jnp.asarray(_padded(loads, multiple), dtype),
-        jnp.asarray(np.log(_padded(stiffness, multiple)), dtype),
-    )
 
 
 def _multiple(scene) -> int:
@@ -96,12 +79,19 @@ def fit(
     prior=None,
     noise: float | None = None,
     profile: bool = False,
+    approach=None,
+    reference_load: float | None = None,
 ) -> FitResult:
-    """Fit scene parameters to a stiffness-vs-load curve.
+    """Fit scene parameters to a stiffness-vs-load curve, an approach-vs-load curve, or both.
 
     **Arguments:**
 
-    - `loads`, `stiffness`: the measured curve, N and N/m (1-D, same length, all positive).
+    - `loads`, `stiffness`: the measured curve, N and N/m (1-D, same length, all positive); `stiffness`
+      may be `None` when `approach` is given, and NaN at loads where only the approach was measured.
+    - `approach`: the measured approach δ(F) − δ(F0) (m) at the same loads (docs/model.md §6), NaN
+      where not measured; fitted alone or together with `stiffness`.
+    - `reference_load`: the preload F0 (N) that the approach is measured from (default: the smallest
+      load, where the approach must then be 0).
     - `scene`: a `jaxcontact.Scene` supplying everything that is not fitted (and one start).
     - `params`: names of the fitted float fields: any of D, G, l_min, E, nu, H, area.
     - `method`: "bfgs" (quasi-Newton BFGS on the mean squared log residual, scipy's L-BFGS-B;
@@ -124,7 +114,9 @@ def fit(
       `(JᵀJ/σ² + Σ_p⁻¹)⁻¹`, and `FitResult.information` says how much of each interval came from the
       curve and how much from the prior.
     - `noise`: σ of ln K (the curve's relative noise), which weighs the curve against a prior;
-      default: the residuals' scale of the curve fitted alone.
+      default: the residuals' scale of the curve fitted alone. With an approach curve: σ of δ in m
+      alone, or a dict `{"stiffness": σ of ln K, "approach": σ in m}`, which also weighs one
+      observable against the other (default: each one's point-to-point scatter).
     - `profile`: also compute the profile likelihood of each parameter (the others re-optimised);
       where it is not parabolic, the interval comes from it (`FitResult.profiles`).
 
@@ -138,26 +130,21 @@ def fit(
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)
     gaussian, fitted = resolve_prior(prior, fitted)
-    loads = np.asarray(loads, dtype=float).reshape(-1)
-    stiffness = np.asarray(stiffness, dtype=float).reshape(-1)
-    if loads.shape != stiffness.shape:
-        raise InputError(f"loads ({loads.size}) and stiffness ({stiffness.size}) differ in length")
-    if loads.size <= len(fitted):
-        raise InputError(f"{loads.size} data points cannot determine {len(fitted)} parameters")
+    dtype = jnp.result_type(1.0)
+    data, loads, stated = observations(loads, stiffness, approach, reference_load, noise, dtype, _multiple(scene))
+    n_values = int(data.measured[: loads.size].sum())
+    if n_values <= len(fitted):
+        raise InputError(f"{n_values} data points cannot determine {len(fitted)} parameters")
     if np.unique(loads).size <= len(fitted):
         raise InputError(
             f"loads: {np.unique(loads).size} distinct values among {loads.size} points cannot determine "
             f"{len(fitted)} parameters (a curve needs at least {len(fitted) + 1} different loads)"
         )
-    for name, values in (("loads", loads), ("stiffness", stiffness)):
-        if not np.all(np.isfinite(values) & (values > 0)):
-            raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
-    dtype = jnp.result_type(1.0)
     if tol is None:
         tol = max(DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6, scene.model.precision)
     own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
     if gaussian is not None:  # the prior's mean is the first start
-        own_stat[list(gaussian.index)] = gaussian.mean
+        own_stat[list(gaussian.index)] = gaussian.first_start
     own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
     if starts is None:
         u0s = starting_points(fitted, n_starts, seed, include=own)
@@ -165,10 +152,10 @@ def fit(
         starts = np.atleast_2d(np.asarray(starts, dtype=float))
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene, _ = prepare(scene, loads)
-    data = _padded_curve(loads, stiffness, dtype, _multiple(scene))
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)
     if gaussian is not None:
-        sigma = noise_scale(objective, u0s[0], noise, max_iter, tol, len(fitted))
+        # Stated noise is in the weights already: the weighted residuals are in units of σ.
+        sigma = noise_scale(objective, u0s[0], 1.0 if stated else None, max_iter, tol, len(fitted))
         objective = PriorObjective(objective, gaussian, sigma)
     outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
     u_all = np.stack([o.u for o in outcomes])
@@ -218,8 +205,7 @@ def fit(
 
 def _data_loss(result) -> float:
     """½ mean r² of the curve alone (the prior's terms left out)."""
-    r = result["residuals"][np.isfinite(result["residuals"])]
-    return 0.5 * float(r @ r) / max(r.size, 1)
+    return 0.5 * result["rss"] / max(result["n_used"], 1)
 
 
 def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
@@ -236,7 +222,7 @@ def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:
     chunk = POINTS_MULTIPLE if scene.model.pad_loads else loads.size
     for start in range(0, loads.size, chunk):
         part = loads[start : start + chunk]
-        padded, zeros = _padded_curve(part, np.ones_like(part), dtype, _multiple(scene))
-        r, ok, _, _ = residuals_and_jacobian(stat, traced, fitted, padded, zeros)
-        stiffness.append(np.where(np.asarray(ok), np.exp(np.asarray(r, dtype=float)), np.nan)[: part.size])
+        data, _, _ = observations(part, np.ones_like(part), None, None, None, dtype, _multiple(scene))
+        e = evaluated(stat, traced, fitted, data, part.size)
+        stiffness.append(np.where(e.ok, np.exp(e.r.astype(float)), np.nan))
     return np.concatenate(stiffness)

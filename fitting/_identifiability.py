@@ -15,7 +15,7 @@ import math
 import numpy as np
 from scipy import optimize, special
 
-from ._residuals import residuals_and_jacobian
+from ._residuals import evaluated
 
 # A combination whose 95 % interval spans more than this share of its extent within the bounds is
 # not determined by the curve.
@@ -79,11 +79,10 @@ class Profile:
     reached: tuple[bool, bool]
 
 
-def profile(scene, params, data, n_points: int, stat_hat, s2: float, index: int, stderr: float, threshold: float):
+def profile(scene, params, data, rows: int, stat_hat, s2: float, index: int, stderr: float, threshold: float):
     """The profile likelihood of parameter `index`: 8 points each side out to 4 standard errors
     (statistical coordinates), and on to the bound in 6 more where the threshold is not reached, the
     other parameters re-optimised by least squares from the neighbouring point."""
-    loads, log_stiffness = data
     p = params[index]
     lo, hi = p.stat_bounds
     centre = float(stat_hat[index])
@@ -106,9 +105,9 @@ def profile(scene, params, data, n_points: int, stat_hat, s2: float, index: int,
         # scipy asks for the residuals and then the Jacobian at the same point: one program call serves both.
         key = stat.tobytes()
         if key not in last:
-            r, _, _, J = residuals_and_jacobian(stat, scene, params, loads, log_stiffness)
+            e = evaluated(stat, scene, params, data, rows)
             last.clear()
-            last[key] = (np.asarray(r)[:n_points], np.asarray(J)[:n_points][:, others])
+            last[key] = (e.r, e.J[:, others])
         return last[key]
 
     def rss_at(value, rest):
@@ -159,7 +158,7 @@ def _crossings(grid, delta, threshold, p):
     return (ends[0], ends[1]), (reached[0], reached[1])
 
 
-def profiles_of(result, fitted, scene, data, n_points, stat_hat, replace: bool) -> dict:
+def profiles_of(result, fitted, scene, data, rows, stat_hat, replace: bool) -> dict:
     """Each parameter's profile likelihood (of the curve alone); where its interval differs from the
     parabolic one by more than 10 % of the latter's half-width on either side, and no prior enters the
     interval (`replace`), the interval is the profile's."""
@@ -172,7 +171,7 @@ def profiles_of(result, fitted, scene, data, n_points, stat_hat, replace: bool) 
         se = math.sqrt(result["covariance"][i, i]) if np.isfinite(result["covariance"][i, i]) else math.inf
         if p.log:
             se = result["stderr"][p.name] / result["values"][p.name] if np.isfinite(se) else se
-        prof = profile(scene, fitted, data, n_points, stat_hat, result["s2"], i, se, threshold)
+        prof = profile(scene, fitted, data, rows, stat_hat, result["s2"], i, se, threshold)
         profiles[p.name] = prof
         lo, hi = result["ci95"][p.name]
         half = (hi - lo) / 2

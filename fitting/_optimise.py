@@ -1,7 +1,7 @@
 """The optimisers: scipy's Levenberg–Marquardt (MINPACK) and BFGS (L-BFGS-B), driving one compiled model.
 
 The model is compiled once per static configuration, as residuals *and* their Jacobian
-(`residuals.residuals_and_jacobian`, forward mode over the fitted parameters), and the
+(`_residuals.residuals_and_jacobian`, forward mode over the fitted parameters), and the
 optimisers run on the host, one call per trial point. The same compiled function then gives
 the Gauss–Newton statistics at the optimum and the misfit of rival optima. An optimiser compiled
 around the model (optimistix's, inside `jit`) compiles the model inside its loop, and the
@@ -18,7 +18,7 @@ import numpy as np
 from scipy import optimize
 
 from ._parameters import FitParameter
-from ._residuals import residuals_and_jacobian
+from ._residuals import Observations, evaluated
 
 
 @dataclasses.dataclass(frozen=True)
@@ -32,15 +32,18 @@ class Outcome:
 
 
 class Objective:
-    """The residuals `r(u)` and their Jacobian `∂r/∂u` at the curve's points (the padding cut off).
+    """The residuals `r(u)` and their Jacobian `∂r/∂u` at the curve's points (the padding cut off;
+    every observable's column, flattened by load).
 
     `u` are the optimiser coordinates (`FitParameter.stat_from_u`); `r` and `∂r/∂stat` come from
     the one compiled `residuals_and_jacobian`, and `∂stat/∂u` is applied here. The last point is
     remembered: scipy asks for the residuals and the Jacobian at the same point one after the other.
+    `n_points` counts the measured values (the loss is their mean squared residual).
     """
 
-    def __init__(self, scene, params: tuple[FitParameter, ...], data, n_points: int, dtype):
-        self.scene, self.params, self.data, self.n_points, self.dtype = scene, params, data, n_points, dtype
+    def __init__(self, scene, params: tuple[FitParameter, ...], data: Observations, rows: int, dtype):
+        self.scene, self.params, self.data, self.rows, self.dtype = scene, params, data, rows, dtype
+        self.n_points = int(data.measured[:rows].sum())
         self._last = None
 
     def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
@@ -48,11 +51,8 @@ class Objective:
         if self._last is not None and np.array_equal(self._last[0], u):
             return self._last[1]
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
-        loads, log_stiffness = self.data
-        r, _, _, J = residuals_and_jacobian(np.asarray(stat, self.dtype), self.scene, self.params, loads, log_stiffness)
-        n = self.n_points
-        r = np.asarray(r, dtype=float)[:n]
-        J = np.asarray(J, dtype=float)[:n] * np.asarray(slope)
+        e = evaluated(np.asarray(stat, self.dtype), self.scene, self.params, self.data, self.rows)
+        r, J = e.r.astype(float), e.J.astype(float) * np.asarray(slope)
         self._last = (u, (r, J))
         return r, J
 

@@ -1,19 +1,34 @@
-"""The fit's residuals: log stiffness of the model against the data, in statistical coordinates.
+"""The fit's residuals: the model against the data, in statistical coordinates.
 
-`r_i = ln K_model(F_i; θ) - ln K_i`. Data points that the model cannot evaluate at a trial θ
-(interaction breakdown, load out of range) contribute a constant residual `FLAGGED_RESIDUAL` with
-no gradient, so that no start can win by pushing points out of the model; points where it gives
-K = 0 (every spot plastic) contribute `ZERO_STIFFNESS_RESIDUAL`, worse than any real misfit.
+Two observables, each a column of `Observations.targets`:
+
+- `"stiffness"`: `r = ln K_model(F; θ) − ln K` (relative errors, as measurement noise on K usually is);
+- `"approach"`: `r = δ_model(F; θ) − δ` (m), the approach relative to the preload F0
+  (`jaxcontact.applications.approach_star`, piecewise Gauss–Legendre: fixed cost, cheap forward-mode
+  derivatives), with a displacement sensor's absolute noise.
+
+Each column is divided by its noise σ (`Observations.weights` = 1/σ), so that a curve of both is one
+least-squares problem. A target that is NaN was not measured: its residual is 0 and it is left out
+of every count. Data points that the model cannot evaluate at a trial θ (interaction breakdown,
+load out of range) contribute a constant residual (`FLAGGED_RESIDUAL` in ln K; the curve's rms
+approach in δ) with no gradient, so that no start can win by pushing points out of the model;
+points where it gives K = 0 (every spot plastic) contribute `ZERO_STIFFNESS_RESIDUAL`, worse than
+any real misfit.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Float
 
 import jaxcontact as jc
 from jaxcontact import programs
+from jaxcontact.applications import approach_star
 
 from ._parameters import with_stat
 
@@ -22,6 +37,31 @@ FLAGGED_RESIDUAL = 1.0  # a miss by a factor e in stiffness
 # an infinite factor; this stands for it, worse than any misfit a model of the data could have, so
 # that no start wins by making the stiffness vanish.
 ZERO_STIFFNESS_RESIDUAL = 50.0
+OBSERVABLES = ("stiffness", "approach")
+# Gauss–Legendre nodes per piece of the approach's quadrature: ~1e-8 relative (docs/applications.md),
+# far below any displacement sensor's noise.
+APPROACH_NODES = 8
+
+
+class Observations(eqx.Module):
+    """What a fit compares the model with, padded (the caller cuts the padding off).
+
+    `loads` (N); `targets` (load, column): ln K and/or δ − δ(F0) (m), NaN where not measured;
+    `weights` (column): 1/σ; `flagged` (column): the residual of a point outside the model, in the
+    column's units before weighting; `reference_load` F0 (N) of the approach; `columns`, a tuple of
+    `OBSERVABLES` (static).
+    """
+
+    loads: Float[Array, " points"]
+    targets: Float[Array, "points columns"]
+    weights: Float[Array, " columns"]
+    flagged: Float[Array, " columns"]
+    reference_load: Float[Array, ""]
+    columns: tuple[str, ...] = eqx.field(static=True)
+
+    @property
+    def measured(self) -> np.ndarray:
+        return np.isfinite(np.asarray(self.targets))
 
 
 def log_residuals(stat, scene, params, loads, log_stiffness):
@@ -35,39 +75,93 @@ _OUTPUTS = jc.Outputs(regime_shares=False)
 
 
 def residuals_and_status(stat, scene, params, loads, log_stiffness):
-    sol = jc.solve(with_stat(scene, params, stat), loads, outputs=_OUTPUTS)
+    """The stiffness column alone (unweighted): `(r, ok, status)` per load."""
+    return _stiffness(with_stat(scene, params, stat), loads, log_stiffness, FLAGGED_RESIDUAL)
+
+
+def _stiffness(scene, loads, log_stiffness, flagged):
+    sol = jc.solve(scene, loads, outputs=_OUTPUTS)
     ok = sol.ok & (sol.stiffness > 0)
     K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
-    missed = jnp.where(sol.fully_plastic, ZERO_STIFFNESS_RESIDUAL, FLAGGED_RESIDUAL)
+    missed = jnp.where(sol.fully_plastic, ZERO_STIFFNESS_RESIDUAL, flagged)
     return jnp.where(ok, jnp.log(K) - log_stiffness, missed), ok, sol.status
 
 
-def residuals_and_jacobian(stat, scene, params, loads, log_stiffness):
-    """Residuals, valid mask, status and d(residual)/d(stat) at `stat`: the fit's one compiled
-    program (per scene structure, fitted parameters, dtype and number of points), which the
-    optimisers, the statistics and the rival-optimum check share.
+def _approach(scene, loads, delta, flagged, reference_load):
+    scales = jc.Scales.of(scene)
+    log_F = jnp.log(loads / scales.load)
+    delta_star, status = approach_star(scene, log_F, jnp.log(reference_load / scales.load), APPROACH_NODES)
+    ok = status == jc.Status.OK
+    model = jnp.where(ok, delta_star, 0.0) * scales.length
+    return jnp.where(ok, model - delta, flagged), ok, status
+
+
+def observed_residuals(stat, scene, params, data: Observations):
+    """`(r, ok, status)`, each (load, column): weighted residuals (0 where not measured), the model's
+    valid mask and its status, at statistical coordinates `stat`."""
+    scene = with_stat(scene, params, stat)
+    rows = []
+    for k, column in enumerate(data.columns):
+        target = jnp.where(jnp.isnan(data.targets[:, k]), 0.0, data.targets[:, k])
+        if column == "stiffness":
+            rows.append(_stiffness(scene, data.loads, target, data.flagged[k]))
+        else:
+            rows.append(_approach(scene, data.loads, target, data.flagged[k], data.reference_load))
+    r, ok, status = (jnp.stack(x, axis=1) for x in zip(*rows))
+    r = jnp.where(jnp.isnan(data.targets), 0.0, r * data.weights)
+    return r, ok, status
+
+
+def residuals_and_jacobian(stat, scene, params, data: Observations):
+    """Residuals, valid mask, status (each (load, column)) and d(residual)/d(stat) at `stat`: the fit's
+    one compiled program (per scene structure, fitted parameters, observables, dtype and number of
+    points), which the optimisers, the statistics and the rival-optimum check share.
 
     `scene` must have array leaves of one dtype (`jaxcontact.core.prepare`).
     """
     leaves, treedef = jax.tree_util.tree_flatten(scene)
-    args = (np.asarray(stat, loads.dtype), leaves, loads, log_stiffness)
-    key = (treedef, params, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+    data_leaves, data_def = jax.tree_util.tree_flatten(data)
+    args = (np.asarray(stat, data.loads.dtype), leaves, data_leaves)
+    key = (treedef, data_def, params, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
     if key not in _PROGRAMS:
 
-        def flat(stat, leaves, loads, log_stiffness):
+        def flat(stat, leaves, data_leaves):
             scene = jax.tree_util.tree_unflatten(treedef, leaves)
+            data = jax.tree_util.tree_unflatten(data_def, data_leaves)
 
             def residuals(s):
-                r, ok, status = residuals_and_status(s, scene, params, loads, log_stiffness)
+                r, ok, status = observed_residuals(s, scene, params, data)
                 return r, (r, ok, status)
 
             J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
             return r, ok, status, J
 
-        static = f"fitting {[p.name for p in params]}"
-        _PROGRAMS[key] = programs.program("residuals_and_jacobian", static, flat, args, closed_over=(treedef,))
+        static = f"fitting {[p.name for p in params]} {list(data.columns)}"
+        _PROGRAMS[key] = programs.program("residuals_and_jacobian", static, flat, args, closed_over=(treedef, data_def))
     return _PROGRAMS[key](*args)
 
 
-# Built programs, by scene structure, fitted parameters and argument shapes.
+class Evaluated(NamedTuple):
+    """`residuals_and_jacobian` at the curve's first `rows` loads, flattened by load (row-major over
+    the columns): `r`, `ok`, `status`, `J` (entries, parameters), and `measured`."""
+
+    r: np.ndarray
+    ok: np.ndarray
+    status: np.ndarray
+    J: np.ndarray
+    measured: np.ndarray
+
+    @property
+    def used(self) -> np.ndarray:
+        return self.ok & self.measured
+
+
+def evaluated(stat, scene, params, data: Observations, rows: int) -> Evaluated:
+    r, ok, status, J = (np.asarray(x)[:rows] for x in residuals_and_jacobian(stat, scene, params, data))
+    return Evaluated(
+        r.reshape(-1), ok.reshape(-1), status.reshape(-1), J.reshape(r.size, -1), data.measured[:rows].reshape(-1)
+    )
+
+
+# Built programs, by scene structure, fitted parameters, observables and argument shapes.
 _PROGRAMS: dict = {}

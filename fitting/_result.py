@@ -20,7 +20,8 @@ class FitResult:
     ci95 are NaN where the model does not describe the data (`describes_data` False: the misfit is
     far beyond the data's own scatter, and a warning says so), and a linear parameter's interval
     never leaves its domain (D's stays in (1, 2));
-    `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points); `flagged`
+    `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points; with an approach
+    curve, δ_model − δ_data in m, and with both a column each: (load, [stiffness, approach])); `flagged`
     (indices of data points outside the model at the optimum); `success`; `iterations` (of the
     best start); `wall_time` (s, compilation included); `warnings`; `condition_number` (of the
     scaled Gauss–Newton matrix); `start_losses`; `scene` (the fitted scene); `identifiability`

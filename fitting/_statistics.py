@@ -16,7 +16,7 @@ import jaxcontact as jc
 
 from ._identifiability import combinations, report
 from ._parameters import FitParameter
-from ._residuals import residuals_and_jacobian
+from ._residuals import evaluated
 
 # Optima closer than this fraction of every parameter's search range (statistical coordinates) are one.
 _SAME_OPTIMUM = 1e-4
@@ -34,15 +34,13 @@ def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
     covariance = result["covariance"]
     if not np.all(np.isfinite(covariance)):
         return []
-    used = np.isfinite(result["residuals"])
-    padded_loads, log_stiffness = data
+    used, rows = result["used"], result["residuals"].shape[0]
 
     def rss_at(stat):
-        r = np.asarray(residuals_and_jacobian(stat, scene, params, padded_loads, log_stiffness)[0])
-        return float(np.sum(r[: used.size][used] ** 2))
+        return float(np.sum(evaluated(stat, scene, params, data, rows).r[used] ** 2))
 
     stats_all = np.array([[p.stat_from_u(x) for p, x in zip(params, u)] for u in u_all])
-    rss_best = float(np.sum(result["residuals"][used] ** 2))
+    rss_best = result["rss"]
     s2 = rss_best / max(result["n_used"] - len(params), 1)
     precision = np.linalg.pinv(covariance)
     ranges = np.ptp(np.array([p.stat_bounds for p in params]), axis=1)
@@ -79,24 +77,21 @@ def inner_bounds(p: FitParameter):
 def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
     """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
 
-    `loads` is the curve as given; `data` is `_padded_curve`'s, whose padding is cut off here.
+    `loads` is the curve as given; `data` the padded `Observations`, whose padding is cut off here.
     """
-    padded_loads, log_stiffness = data
-    r, ok, status, J = (
-        np.asarray(x)[: loads.size]
-        for x in residuals_and_jacobian(stat_hat, scene, params, padded_loads, log_stiffness)
-    )
+    e = evaluated(stat_hat, scene, params, data, loads.size)
+    columns = len(data.columns)
     warnings = []
-    flagged = np.flatnonzero(~ok)
+    flagged = np.flatnonzero(e.measured & ~e.ok)
     if flagged.size:
-        status = status[flagged]
-        reasons = [jc.status_message(s) if s else "K = 0: every spot plastic" for s in status[:5]]
-        listed = ", ".join(f"{loads[i]:.4g} N ({why})" for i, why in zip(flagged[:5], reasons))
+        reasons = [jc.status_message(s) if s else "K = 0: every spot plastic" for s in e.status[flagged[:5]]]
+        listed = ", ".join(f"{loads[i // columns]:.4g} N ({why})" for i, why in zip(flagged[:5], reasons))
         warnings.append(
-            f"{flagged.size} of {loads.size} points are outside the model at the optimum and were "
+            f"{flagged.size} of {int(e.measured.sum())} points are outside the model at the optimum and were "
             f"left out of the statistics: {listed}{' …' if flagged.size > 5 else ''}"
         )
-    J, r_used = J[ok], r[ok]
+    flagged = np.unique(flagged // columns)
+    J, r_used = e.J[e.used], e.r[e.used]
     n, p = J.shape
     dof = n - p
     names = [q.name for q in params]
@@ -140,13 +135,15 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         warnings.append(report(params, found))
     if condition > 1e8:
         warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
-    misfit = misfit_warning(np.log(loads[ok]), np.asarray(log_stiffness)[: loads.size][ok], r_used)
+    misfit = _misfit(loads, data, e)
     if misfit:
         warnings.append(misfit)
         # Intervals of a model that does not describe the data would look meaningful and are not.
         stderr = dict.fromkeys(stderr, math.nan)
         ci95 = dict.fromkeys(ci95, (math.nan, math.nan))
-    residuals = np.where(ok, r, np.nan)
+    # In each observable's own units (ln K, m): the weights undone.
+    residuals = np.where(e.used, e.r, np.nan).reshape(loads.size, columns) / np.asarray(data.weights)
+    residuals = residuals[:, 0] if columns == 1 else residuals
     return dict(
         values=values,
         stderr=stderr,
@@ -161,7 +158,32 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         describes_data=not misfit,
         identifiability=found,
         s2=s2,
+        used=e.used,
+        rss=float(r_used @ r_used),
     )
+
+
+def _misfit(loads, data, e) -> str | None:
+    """`misfit_warning` of the first observable whose residuals exceed its data's own scatter (in ln K;
+    the approach relative to its rms)."""
+    columns = len(data.columns)
+    targets = np.asarray(data.targets)[: loads.size]
+    used = e.used.reshape(-1, columns)
+    r = e.r.reshape(-1, columns) / np.asarray(data.weights)
+    for k, column in enumerate(data.columns):
+        keep = used[:, k]
+        y, rk = targets[keep, k], r[keep, k]
+        if column == "approach":  # relative to the curve's size, as ln K's residuals are
+            scale = float(np.sqrt(np.mean(y * y))) if y.size else 1.0
+            y, rk = y / scale, rk / scale
+        found = misfit_warning(np.log(loads[keep]), y, rk, OBSERVED[column])
+        if found:
+            return found
+    return None
+
+
+# What a relative residual of each observable is "in", for the misfit warning.
+OBSERVED = {"stiffness": "in K", "approach": "of the approach's rms"}
 
 
 # Below this rms (ln units, ~2 %) a misfit is too small to call the model wrong, whatever the data's scatter.
@@ -185,7 +207,7 @@ def point_scatter(x, y) -> float:
     return float(np.sqrt(np.median(d * d / (1 + w0 * w0 + w2 * w2)) / 0.4549))
 
 
-def misfit_warning(log_loads, log_stiffness, residuals) -> str | None:
+def misfit_warning(log_loads, log_stiffness, residuals, observed: str = "in K") -> str | None:
     """A warning when the fit misses the data by far more than the data scatter about themselves:
     then the model does not describe them (wrong units, another model, another effect)."""
     if residuals.size < 3:
@@ -199,7 +221,8 @@ def misfit_warning(log_loads, log_stiffness, residuals) -> str | None:
     if rms <= _NEGLIGIBLE_MISFIT or not (rms > factor * scatter):
         return None
     return (
-        f"the rms misfit ({100 * rms:.3g} % in K) is {f'{rms / scatter:.3g}x' if scatter > 0 else 'far above'} the "
+        f"the rms misfit ({100 * rms:.3g} % {observed}) is "
+        f"{f'{rms / scatter:.3g}x' if scatter > 0 else 'far above'} the "
         "data's own point-to-point scatter "
         f"({100 * scatter:.3g} %): the model does not describe these data (loads or stiffness in other units? "
         "another model? an effect the model lacks?); the values and intervals above are not to be trusted"

@@ -66,8 +66,17 @@ from .quantities import PARAMETERS, DimensionlessScene, Material, ParameterSpec,
 
 __version__ = "0.5.0"
 
-# The applications that integrate with diffrax, imported when first used (`jaxcontact.applications`).
-_LAZY = ("Approach", "Drive", "approach", "frequency_response", "resonance_frequency", "simulate", "steady_amplitude")
+# The applications, imported when first used (`jaxcontact.applications`; most integrate with diffrax).
+_LAZY = (
+    "Approach",
+    "Drive",
+    "approach",
+    "approach_quadrature",
+    "frequency_response",
+    "resonance_frequency",
+    "simulate",
+    "steady_amplitude",
+)
 
 __all__ = [
     # The joint and its solve

@@ -325,14 +325,15 @@ def test_lbfgs_is_an_alias_of_bfgs(table1):
 def test_the_optimisers_jacobian_matches_finite_differences(table1):
     """`∂r/∂u` as the optimisers see it: the model's forward-mode Jacobian in statistical
     coordinates times the reparameterisation's slope, against central differences in `u`."""
-    from fitting._fit import _padded_curve
+    from fitting._observed import observations
     from fitting._optimise import Objective
     from jaxcontact.core import prepare
 
     loads, K = table1_generated(table1)
     params = fitting.resolve(("D", "G"))
     scene, _ = prepare(make_scene(**START), loads)
-    objective = Objective(scene, params, _padded_curve(loads, K, np.float64), loads.size, np.float64)
+    data = observations(loads, K, None, None, None, np.float64, 64)[0]
+    objective = Objective(scene, params, data, loads.size, np.float64)
     u = np.array([-0.4, 0.3])
     r, J = objective(u)
     assert r.shape == (loads.size,)

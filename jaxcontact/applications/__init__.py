@@ -1,6 +1,7 @@
 """What is built on the stiffness: the load–approach curve, a driven mass on the joint, sharded
 parameter sweeps, and chunked solves of long load sweeps."""
 
+from ._approach_sum import Approach, approach_quadrature, approach_star
 from ._chunks import map_in_chunks, solve_sweep
 from ._sharded_sweep import SweepResult, sweep
 
@@ -14,11 +15,19 @@ _LAZY = {
     "resonance_frequency": "_dynamics",
     "simulate": "_dynamics",
     "steady_amplitude": "_dynamics",
-    "Approach": "_loadapproach",
     "approach": "_loadapproach",
 }
 
-__all__ = ["SweepResult", "map_in_chunks", "solve_sweep", "sweep", *_LAZY]
+__all__ = [
+    "Approach",
+    "approach_quadrature",
+    "approach_star",
+    "SweepResult",
+    "map_in_chunks",
+    "solve_sweep",
+    "sweep",
+    *_LAZY,
+]
 
 
 def __getattr__(name):

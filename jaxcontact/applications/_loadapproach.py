@@ -16,26 +16,14 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Float, Int
+from jaxtyping import ArrayLike, Float
 
 from ..core import Scene, kink_log_loads, point_solver, prepare
 from ..numerics._compat import checks_without_host_callbacks, top_level
 from ..programs import _exported as exported
 from ..programs import padded, unpadded
 from ..quantities import Scales, Status
-
-
-class Approach(eqx.Module):
-    """Result of `approach`: per load, the approach δ(F) − δ(F0) (m) and a status (0 = ok).
-
-    A point is flagged (approach NaN) when the model is invalid at that load or at the preload;
-    the other points are integrated along a path that avoids it.
-    """
-
-    load: Float[Array, "*loads"]
-    reference_load: Float[Array, ""]
-    approach: Float[Array, "*loads"]
-    status: Int[Array, "*loads"]
+from ._approach_sum import Approach
 
 
 @eqx.filter_jit

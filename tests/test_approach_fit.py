@@ -1,0 +1,139 @@
+"""The approach curve by piecewise Gauss–Legendre quadrature (`approach_quadrature`) against scipy's
+adaptive quadrature of 1/K, and fits of δ(F) alone and with K(F) (`fitting.fit(..., approach=...)`)."""
+
+import equinox as eqx
+import jax
+import numpy as np
+import pytest
+from helpers import SEC51, TABLE1, make_scene
+from scipy import integrate
+
+import fitting
+import jaxcontact as jc
+from jaxcontact import InputError
+
+LOADS = np.geomspace(2.2, 2200.0, 12)
+
+
+def scipy_approach(scene, loads, F0):
+    """∫_{F0}^{F} dF'/K(F') by scipy quad in ln F, K from `solve`, to 1e-12."""
+
+    def one(F):
+        value, _ = integrate.quad(
+            lambda t: np.exp(t) / float(jc.solve(scene, np.exp(t)).stiffness),
+            np.log(F0),
+            np.log(F),
+            epsrel=1e-12,
+            epsabs=0.0,
+            limit=400,
+        )
+        return value
+
+    return np.array([one(F) for F in loads])
+
+
+@pytest.fixture(scope="module")
+def table1_curve():
+    scene = make_scene(**TABLE1)
+    return scene, scipy_approach(scene, LOADS, float(LOADS[0]))
+
+
+def test_quadrature_matches_scipy_on_table1(table1_curve):
+    scene, expected = table1_curve
+    result = jc.approach_quadrature(scene, LOADS, float(LOADS[0]), nodes=12)
+    np.testing.assert_allclose(result.approach, expected, rtol=1e-9, atol=0.0)
+
+
+def test_quadrature_default_nodes_within_1e7(table1_curve):
+    scene, expected = table1_curve
+    result = jc.approach_quadrature(scene, LOADS, float(LOADS[0]))
+    np.testing.assert_allclose(result.approach[1:], expected[1:], rtol=1e-7, atol=0.0)
+
+
+def test_quadrature_across_regime_kinks():
+    """A scene whose a_l crosses regime boundaries between the loads: the kinks are piece ends."""
+    scene = make_scene(D=1.43, G=3.3e-10, E=200e9, nu=0.3, H=5e9, area=1e-4, l_min=2e-9, interaction="series")
+    loads = np.array([3e-7, 8e-7, 3e-6, 3e-5, 1e-4]) * 200e9 * 1e-4
+    F0 = 1e-6 * 200e9 * 1e-4
+    assert int(np.sum(np.isfinite(np.asarray(jc.core.kink_log_loads(scene))))) > 0
+    result = jc.approach_quadrature(scene, loads, F0, nodes=12)
+    np.testing.assert_allclose(result.approach, scipy_approach(scene, loads, F0), rtol=1e-9, atol=0.0)
+
+
+def test_quadrature_flags_only_points_beyond_a_breakdown():
+    """Interaction "paper" breaks down above F* ≈ 2e-4 (D = 1.6): those points, and only those, are
+    flagged; the others keep their values, with finite gradients."""
+    scene = make_scene(**dict(SEC51, D=1.6, G=1e-9 * np.sqrt(1e-4)), interaction="paper")
+    loads = np.array([1e-6, 1e-5, 1e-4, 1e-3]) * 210e9 * 1e-4
+    result = jc.approach_quadrature(scene, loads, float(loads[0]))
+    assert np.asarray(result.status).tolist() == [0, 0, 0, int(jc.Status.INTERACTION_BREAKDOWN)]
+
+
+def test_quadrature_gradient_finite_with_a_flagged_point():
+    scene = make_scene(**dict(SEC51, D=1.6, G=1e-9 * np.sqrt(1e-4)), interaction="paper")
+    loads = np.array([1e-6, 1e-5, 1e-4, 1e-3]) * 210e9 * 1e-4
+
+    def total(D):
+        s = eqx.tree_at(lambda s: s.surface.D, scene, D)
+        return jax.numpy.nansum(jc.approach_quadrature(s, loads, float(loads[0])).approach)
+
+    # Forward mode, as a fit differentiates it.
+    assert np.isfinite(float(jax.jvp(total, (1.6,), (1.0,))[1]))
+
+
+def test_quadrature_refuses_bad_nodes(table1_curve):
+    with pytest.raises(ValueError, match=r"nodes = 1 must be an integer in \[2, 64\]"):
+        jc.approach_quadrature(table1_curve[0], LOADS, 2.2, nodes=1)
+
+
+START = dict(TABLE1, D=1.55, G=1e-9)
+
+
+@pytest.fixture(scope="module")
+def approach_fit(table1_curve):
+    """A noiseless δ(F) from scipy's quadrature, fitted alone from a wrong start."""
+    return fitting.fit(LOADS, None, make_scene(**START), approach=table1_curve[1], n_starts=3)
+
+
+@pytest.fixture(scope="module")
+def joint_fit(table1_curve):
+    scene, delta = table1_curve
+    K = np.asarray(jc.solve(scene, LOADS).stiffness)
+    return fitting.fit(LOADS, K, make_scene(**START), approach=delta, n_starts=3)
+
+
+def test_fit_of_the_approach_alone_recovers_d(approach_fit):
+    assert approach_fit.values["D"] == pytest.approx(TABLE1["D"], abs=1e-6)
+
+
+def test_fit_of_the_approach_alone_recovers_g(approach_fit):
+    assert approach_fit.values["G"] == pytest.approx(TABLE1["G"], rel=1e-4)
+
+
+def test_joint_fit_recovers_d(joint_fit):
+    assert joint_fit.values["D"] == pytest.approx(TABLE1["D"], abs=1e-6)
+
+
+def test_joint_fit_reports_residuals_per_observable(joint_fit):
+    assert joint_fit.residuals.shape == (LOADS.size, 2)
+
+
+def test_approach_not_zero_at_the_reference_is_refused():
+    with pytest.raises(InputError, match="approach at the reference load 2.2 N must be 0"):
+        fitting.fit(LOADS, None, make_scene(**START), approach=np.linspace(1e-9, 1e-8, LOADS.size))
+
+
+def test_one_noise_number_for_two_observables_is_refused():
+    delta = np.linspace(0.0, 1e-8, LOADS.size)
+    with pytest.raises(InputError, match="with both observables, give a dict"):
+        fitting.fit(LOADS, np.ones(LOADS.size), make_scene(**START), approach=delta, noise=0.01)
+
+
+def test_noise_of_an_unfitted_observable_is_refused():
+    with pytest.raises(InputError, match="'approach' is not an observable of this fit"):
+        fitting.fit(LOADS, np.ones(LOADS.size), make_scene(**START), noise={"approach": 1e-9})
+
+
+def test_no_curve_is_refused():
+    with pytest.raises(InputError, match="give at least one measured curve"):
+        fitting.fit(LOADS, None, make_scene(**START))
