@@ -18,6 +18,7 @@ import time
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.scipy.special import gammaln as jax_gammaln
 
 import jaxcontact as jc
 from jaxcontact.core import prepare
@@ -26,6 +27,7 @@ from ._nuts import run_chains
 from ._parameters import resolve, stat_of_u, with_stat
 from ._prior import NOISE_FLOOR, resolve_prior
 from ._residuals import residuals_and_status
+from ._spectral_prior import spectral_coordinates
 from ._statistics import inner_bounds
 
 
@@ -89,12 +91,17 @@ def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
     if gaussian is not None:
         index, mean, precision = list(gaussian.index), jnp.asarray(gaussian.mean), jnp.linalg.inv(gaussian.covariance)
 
+        def coordinates(stat):
+            if gaussian.kind is None:
+                return stat
+            return jnp.stack(spectral_coordinates(gaussian.kind, gaussian.log_q, *stat, jax_gammaln))
+
     def logdensity(u):
         stat = stat_of_u(fitted, u)
         r, _, _ = residuals_and_status(stat, scene, fitted, loads, log_stiffness)
         value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
         if gaussian is not None:
-            d = stat[jnp.asarray(index)] - mean
+            d = coordinates(stat[jnp.asarray(index)]) - mean
             value = value - 0.5 * d @ precision @ d
         return value
 

@@ -1,10 +1,11 @@
 """What the user already knows, as a prior: the topography's (D, ln G) and their covariance, or stated
 means and standard deviations, or bounds (docs/fitting.md, "Joint inference with the surface").
 
-A Gaussian prior lives in the fit's statistical coordinates (D and ν linear; G, E, H, l_min, area
-logarithmic: a stated sd of a scale is relative, sd/mean). The fit then minimises
-`Σ (r_i / σ)² + (θ − μ)ᵀ Σ_p⁻¹ (θ − μ)`, σ the curve's noise in ln K (given, or the residuals'
-scale of the curve fitted alone), and the posterior covariance is `(JᵀJ/σ² + Σ_p⁻¹)⁻¹` (Laplace).
+A stated Gaussian prior lives in the fit's statistical coordinates (D and ν linear; G, E, H, l_min,
+area logarithmic: a stated sd of a scale is relative, sd/mean); a topography's prior on D and G in its
+spectrum's own coordinates φ(D, ln G) (`_spectral_prior`). The fit then minimises
+`Σ (r_i / σ)² + (φ(θ) − μ)ᵀ Σ_p⁻¹ (φ(θ) − μ)`, σ the curve's noise in ln K (given, or the residuals'
+scale of the curve fitted alone), and the posterior covariance is `(JᵀJ/σ² + ∂φᵀ Σ_p⁻¹ ∂φ)⁻¹` (Laplace).
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ import numpy as np
 from jaxcontact import InputError
 
 from ._optimise import Objective, run_lm
-from ._residuals import residuals_and_jacobian
+from ._residuals import evaluated
+from ._spectral_prior import decorrelated, spectral_coordinates, spectral_jacobian
 
 # Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
 NOISE_FLOOR = 1e-3
@@ -25,23 +27,46 @@ NOISE_FLOOR = 1e-3
 
 @dataclasses.dataclass(frozen=True)
 class GaussianPrior:
-    """`mean` and `covariance` of the parameters `index` (positions among the fitted ones), in
-    statistical coordinates; `source` says where it came from."""
+    """`mean` and `covariance` of the parameters `index` (positions among the fitted ones); `source` says
+    where it came from. In statistical coordinates, or (`kind` set: a spectrum's fit of D and ln G, both
+    fitted) in that spectrum's own decorrelated coordinates (`_spectral_prior`), with `start` the
+    estimate in statistical coordinates."""
 
     index: tuple[int, ...]
     mean: np.ndarray
     covariance: np.ndarray
     source: str
+    kind: str | None = None
+    log_q: float = 0.0
+    start: np.ndarray | None = None
 
     @property
     def root(self) -> np.ndarray:
-        """`L⁻¹` with `Σ_p = L Lᵀ`: the prior's residuals are `L⁻¹ (θ − μ)`."""
+        """`L⁻¹` with `Σ_p = L Lᵀ`: the prior's residuals are `L⁻¹ (φ(θ) − μ)`."""
         return np.linalg.inv(np.linalg.cholesky(self.covariance))
 
-    def precision(self, n: int) -> np.ndarray:
-        """`Σ_p⁻¹` embedded in the n × n space of the fitted parameters (zero where no prior)."""
+    @property
+    def first_start(self) -> np.ndarray:
+        return self.mean if self.start is None else self.start
+
+    def value_and_jacobian(self, stat) -> tuple[np.ndarray, np.ndarray]:
+        """`φ(θ)`, the prior's coordinates of the statistical ones `stat` (its own parameters), and `∂φ/∂θ`."""
+        stat = np.asarray(stat, dtype=float)
+        if self.kind is None:
+            return stat, np.eye(stat.size)
+        value = spectral_coordinates(self.kind, self.log_q, *stat)
+        return np.asarray(value, dtype=float), spectral_jacobian(self.kind, self.log_q, *stat)
+
+    def stat_precision(self, stat) -> np.ndarray:
+        """`∂φᵀ Σ_p⁻¹ ∂φ` at `stat` (the prior's own parameters): its precision in statistical coordinates."""
+        _, jacobian = self.value_and_jacobian(stat)
+        return jacobian.T @ np.linalg.solve(self.covariance, jacobian)
+
+    def precision(self, stat_all) -> np.ndarray:
+        """The statistical precision at `stat_all` embedded among all fitted parameters (zero where no prior)."""
+        n = len(stat_all)
         full = np.zeros((n, n))
-        full[np.ix_(self.index, self.index)] = np.linalg.inv(self.covariance)
+        full[np.ix_(self.index, self.index)] = self.stat_precision(np.asarray(stat_all, dtype=float)[list(self.index)])
         return full
 
 
@@ -55,9 +80,11 @@ def _characterisation_prior(c, fitted) -> GaussianPrior:
     covariance = np.asarray(c.covariance, dtype=float)[np.ix_(chosen, chosen)]
     if not np.all(np.isfinite(covariance)) or np.any(np.diag(covariance) <= 0):
         raise InputError("prior: the characterisation has no usable covariance of (D, ln G) (D was held?)")
-    return GaussianPrior(
-        index, mean, covariance, f"the topography ({c.method}, band {c.band[0]:.3g}-{c.band[1]:.3g} m)"
-    )
+    source = f"the topography ({c.method}, band {c.band[0]:.3g}-{c.band[1]:.3g} m)"
+    if len(index) == 2 and getattr(c, "power_law", None) is not None:
+        spectral_mean, spectral_covariance, log_q = decorrelated(c.power_law)
+        return GaussianPrior(index, spectral_mean, spectral_covariance, source, c.kind, log_q, mean)
+    return GaussianPrior(index, mean, covariance, source)
 
 
 def _stated_prior(prior: dict, fitted):
@@ -121,9 +148,10 @@ class PriorObjective:
         r, J = self.base(u)
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, np.asarray(u, dtype=float))))
         index = list(self.prior.index)
-        r_prior = self._root @ (np.asarray(stat)[index] - self.prior.mean)
+        value, jacobian = self.prior.value_and_jacobian(np.asarray(stat)[index])
+        r_prior = self._root @ (value - self.prior.mean)
         J_prior = np.zeros((len(index), len(self.params)))
-        J_prior[:, index] = self._root * np.asarray(slope)[index]
+        J_prior[:, index] = self._root @ jacobian * np.asarray(slope)[index]
         return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior])
 
     def loss(self, u) -> float:
@@ -131,18 +159,19 @@ class PriorObjective:
         return 0.5 * float(r @ r) / self.n_points
 
 
-def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior) -> dict:
-    """The Laplace covariance and, per parameter with a prior, where its information came from:
-    standard errors (statistical coordinates) of the prior alone, the curve alone and both, and the
-    curve's share `1 − var_both / var_prior`."""
+def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior, stat_hat) -> dict:
+    """The Laplace covariance at `stat_hat` and, per parameter with a prior, where its information came
+    from: standard errors (statistical coordinates) of the prior alone, the curve alone and both, and
+    the curve's share `1 − var_both / var_prior`."""
     n = J.shape[1]
     curve = J.T @ J / sigma**2
-    covariance = np.linalg.inv(curve + prior.precision(n))
+    covariance = np.linalg.inv(curve + prior.precision(stat_hat))
+    prior_covariance = np.linalg.inv(prior.stat_precision(np.asarray(stat_hat, dtype=float)[list(prior.index)]))
     with np.errstate(divide="ignore", invalid="ignore"):
         curve_alone = np.sqrt(np.diag(np.linalg.pinv(curve)))
     shares = {}
     for k, i in enumerate(prior.index):
-        var_prior, var_both = prior.covariance[k, k], covariance[i, i]
+        var_prior, var_both = prior_covariance[k, k], covariance[i, i]
         shares[i] = dict(
             prior=math.sqrt(var_prior),
             curve=float(curve_alone[i]) if np.linalg.matrix_rank(curve) == n else math.inf,
@@ -160,14 +189,14 @@ def noise_scale(objective, u0, noise, max_iter: int, tol: float, p: int) -> floa
             raise InputError(f"noise = {noise!r} must be > 0 (valid range (0, inf)): σ of ln K")
         return float(noise)
     r = objective(run_lm(objective, u0, max_iter, tol).u)[0]
-    return max(math.sqrt(float(r @ r) / max(r.size - p, 1)), NOISE_FLOOR)
+    return max(math.sqrt(float(r @ r) / max(objective.n_points - p, 1)), NOISE_FLOOR)
 
 
-def with_prior(result, fitted, scene, data, n_points, stat_hat, gaussian, sigma):
+def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):
     """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
     information report by parameter name."""
-    _, ok, _, J = (np.asarray(x)[:n_points] for x in residuals_and_jacobian(stat_hat, scene, fitted, *data))
-    post = posterior(J[ok], sigma, gaussian)
+    e = evaluated(stat_hat, scene, fitted, data, rows)
+    post = posterior(e.J[e.used], sigma, gaussian, stat_hat)
     covariance = post["covariance"]
     spread = np.sqrt(np.diag(covariance))
     stderr, ci95 = {}, {}
@@ -176,6 +205,9 @@ def with_prior(result, fitted, scene, data, n_points, stat_hat, gaussian, sigma)
         stderr[p.name] = value * spread[i] if p.log else spread[i]
         lo, hi = (float(p.from_stat(stat_hat[i] + k * 1.959964 * spread[i])) for k in (-1, 1))
         ci95[p.name] = (lo, hi) if p.log else (max(lo, p.low), min(hi, p.high))
+    if not result["describes_data"]:  # no interval for a model that does not describe the curve
+        stderr = dict.fromkeys(stderr, math.nan)
+        ci95 = dict.fromkeys(ci95, (math.nan, math.nan))
     information = {fitted[i].name: share for i, share in post["shares"].items()}
     updated = dict(
         result, covariance=covariance, stderr=stderr, ci95=ci95, correlation=covariance / np.outer(spread, spread)

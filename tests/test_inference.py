@@ -154,3 +154,32 @@ def test_a_topography_that_cannot_be_characterised_is_one_line(tmp_path, capsys)
     np.savetxt(flat, np.zeros((64, 64)))
     code = main(["fit", str(ROOT_DATA), "--topography", str(flat), "--size", "1e-4", "1e-4", "--out", str(tmp_path)])
     assert (code, "flat" in capsys.readouterr().err) == (2, True)
+
+
+@pytest.fixture(scope="module")
+def characterised_map():
+    """A 128² synthesised surface (D = 1.5), characterised: its spectrum's fit is the prior's source."""
+    from jaxcontact.bem._surfaces import synthesised_surface
+    from jaxcontact.topography import characterise
+
+    return characterise(synthesised_surface(1.5, 1e-12, 100e-6 / 32, 100e-6, 128, 1))
+
+
+def test_a_topography_prior_lives_in_its_spectrums_coordinates(characterised_map):
+    prior, _ = resolve_prior(characterised_map, D_AND_G)
+    assert prior.kind == "areal"
+
+
+def test_the_spectral_prior_linearised_at_the_estimate_is_the_characterisations_covariance(characterised_map):
+    """At the estimate, ∂φᵀ Σ⁻¹ ∂φ inverted is the (D, ln G) covariance that `characterise` forms by its own
+    (finite-difference) delta method: the two coordinate maps are each other's inverse."""
+    prior, _ = resolve_prior(characterised_map, D_AND_G)
+    np.testing.assert_allclose(
+        np.linalg.inv(prior.stat_precision(prior.first_start)), characterised_map.covariance, rtol=1e-4
+    )
+
+
+def test_the_spectral_prior_is_centred_on_the_estimate(characterised_map):
+    prior, _ = resolve_prior(characterised_map, D_AND_G)
+    value, _ = prior.value_and_jacobian(prior.first_start)
+    np.testing.assert_allclose(value, prior.mean, rtol=1e-9, atol=1e-9)

@@ -1,0 +1,43 @@
+"""A topography's prior in the coordinates its spectrum was fitted in.
+
+`characterise` fits `ln C = intercept + slope · ln q` by weighted least squares: its uncertainty is
+Gaussian in (slope, intercept), and (D, ln G) is a nonlinear map of them (ln G ∝ 1/(D − 1) at fixed
+intercept). A Gaussian in (D, ln G), the delta method's linearisation at the estimate, is a straight
+thin ridge where the true one bends: with D uncertain by ±0.3 (a small map) its ridge crosses a
+stiffness curve's ridge at a point far from the truth, with a confident, wrong posterior. The prior
+is therefore stated in the fit's own coordinates, decorrelated: the slope, and `ln C` at the
+wavevector where its error is independent of the slope's (`q_ref`), each a smooth function of
+(D, ln G) (`topography._conventions`), and the Laplace covariance linearises it at the optimum.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import special
+
+from jaxcontact.topography._conventions import log_prefactor, spectral_slope
+
+
+def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:
+    """`(mean, covariance, ln q_ref)` of (slope, ln C(q_ref)) from the fit's (slope, intercept, covariance)."""
+    slope, intercept, covariance = power_law
+    covariance = np.asarray(covariance, dtype=float)
+    log_q = -covariance[0, 1] / covariance[0, 0]
+    to_ref = np.array([[1.0, 0.0], [log_q, 1.0]])  # (slope, intercept) -> (slope, intercept + slope ln q)
+    return np.array([slope, intercept + slope * log_q]), to_ref @ covariance @ to_ref.T, float(log_q)
+
+
+def spectral_coordinates(kind: str, log_q: float, D, log_G, gammaln=special.gammaln):
+    """(slope, ln C(q_ref)) of the W-M surface (D, ln G): `gammaln` from scipy, or from JAX in a traced density."""
+    slope = spectral_slope(kind, D)
+    return slope, log_prefactor(kind, D, log_G, gammaln) + slope * log_q
+
+
+def spectral_jacobian(kind: str, log_q: float, D: float, log_G: float) -> np.ndarray:
+    """∂(slope, ln C(q_ref)) / ∂(D, ln G)."""
+    d_intercept = 2 * log_G - 2 * math.log(2 * math.pi)
+    if kind != "profile":
+        d_intercept += -special.digamma(3 - D) + special.digamma(2.5 - D)
+    return np.array([[2.0, 0.0], [d_intercept + 2.0 * log_q, 2.0 * (D - 1.0)]])
