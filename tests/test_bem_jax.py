@@ -123,6 +123,33 @@ def test_a_hardness_cap_agrees_with_contactmechanics_plastic_system(surface, har
     )
 
 
+@pytest.fixture(scope="module")
+def nearly_all_capped():
+    """D = 1.3 at H = 3 GPa (128²): elastic pixel pressures reach tens of GPa, so all but a few contact
+    points sit at the cap, where plain capped CG has nothing left to steer and cycles."""
+    heights = bem.realisation(1.3, 1e-12, L / 32, L, 128, 0).heights()
+    load = 1e-4 * UNIT_LOAD
+    return heights, load, bem.solve(jnp.asarray(heights), L, E, jnp.array([load]), hardness=3e9, secant=0.02)
+
+
+def test_a_contact_nearly_all_at_the_cap_converges(nearly_all_capped):
+    _, _, mine = nearly_all_capped
+    assert int(mine.status[0]) == 0
+
+
+def test_a_contact_nearly_all_at_the_cap_is_mostly_plastic(nearly_all_capped):
+    _, _, mine = nearly_all_capped
+    assert float(mine.plastic_fraction[0]) > 0.8 * float(mine.contact_fraction[0])
+
+
+def test_a_contact_nearly_all_at_the_cap_agrees_with_contactmechanics(nearly_all_capped):
+    """The secant of the same definition as ContactMechanics's plastic system (±2 % in ln F)."""
+    heights, load, mine = nearly_all_capped
+    np.testing.assert_allclose(
+        float(mine.secant_stiffness[0]), _contactmechanics_plastic(heights, load, 3e9), rtol=1e-3
+    )
+
+
 def test_plasticity_softens_the_contact(surface):
     heights = jnp.asarray(surface.heights())
     elastic = bem.solve(heights, L, E, jnp.asarray(LOADS[1:2]))

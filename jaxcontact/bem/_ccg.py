@@ -8,6 +8,13 @@ flow), and δ, the rigid offset, is the constraint's multiplier. Conjugate-gradi
 points strictly between the bounds; a bound point whose gap says it should move inward joins them
 and restarts the conjugacy; after each step the pressure is clipped to its bounds and shifted on
 the free points so that the total stays the load. Everything is in the grid units of `_operator`.
+
+Where nearly every contact point sits at the cap (the free set below 1 % of the contact area, e.g. a
+rough surface whose elastic pixel pressures exceed H fifty-fold), the CG has nothing left to
+steer and cycles. There, as ContactMechanics's plastic system does, the iteration switches to
+*mixing* steps: the bearing-area solution of the current gap (the `F/H` points of smallest gap at
+p = H) is blended into the pressure with a weight that decays geometrically, the total restored
+by a multiplicative rescale, for at least `_MIX_STEPS` steps before CG steps resume.
 """
 
 from __future__ import annotations
@@ -21,6 +28,9 @@ from ._operator import Compliance
 
 # Shifts that restore the total after clipping (each can push a few small pressures below zero).
 _LOAD_PASSES = 3
+# ContactMechanics's mixing rule (`constrained_conjugate_gradients`: mixfac, mixdecfac, minmixsteps),
+# and its switch: mix when the CG-controlled set is below this share of the contact area.
+_MIX_FACTOR, _MIX_DECAY, _MIX_STEPS, _MIN_FREE_SHARE = 0.1, 0.95, 10, 0.01
 
 
 class ContactState(eqx.Module):
@@ -34,6 +44,8 @@ class ContactState(eqx.Module):
     converged: Bool[Array, ""]
     offset: Float[Array, ""]
     residual: Float[Array, ""]
+    mix_factor: Float[Array, ""]
+    mix_steps: Int[Array, ""]
 
 
 def _masked_sum(mask, x):
@@ -53,6 +65,16 @@ def _with_total(pressure, total, hardness):
         shift = (total - jnp.sum(pressure)) / jnp.maximum(count, 1)
         pressure = jnp.where(inside, pressure + shift, pressure)
     return jnp.clip(pressure, 0.0, hardness)
+
+
+def _bearing_mix(raw, pressure, total, hardness, factor):
+    """One mixing step: toward the bearing-area solution of the gap `raw` (the `total / H` points of
+    smallest gap at p = H), by `factor`, then rescaled to `total` and capped."""
+    count = jnp.ceil(total / hardness)
+    rank = jnp.argsort(jnp.argsort(raw.reshape(-1))).reshape(raw.shape)
+    bearing = jnp.where(rank < count, hardness, 0.0)
+    mixed = (1 - factor) * pressure + factor * bearing
+    return jnp.minimum(mixed * (total / jnp.maximum(jnp.sum(mixed), jnp.finfo(raw.dtype).tiny)), hardness)
 
 
 def gaps(compliance: Compliance, heights, pressure, hardness):
@@ -84,12 +106,8 @@ def contact_cg(
         at_zero, at_cap = pressure <= 0, pressure >= hardness
         return jnp.max(jnp.where(free, jnp.abs(gap), jnp.where(at_zero, -gap, jnp.where(at_cap, gap, 0.0))).reshape(-1))
 
-    def step(state: ContactState) -> ContactState:
+    def cg_step(state: ContactState, gap, free, norm):
         p, t = state.pressure, state.direction
-        gap, free, offset = gaps(compliance, heights, p, hardness)
-        residual = residual_of(gap, p)
-        converged = residual <= tolerance
-        norm = _masked_sum(free, gap * gap)
         beta = jnp.where(state.restart | (state.previous_norm <= 0), 0.0, norm / state.previous_norm)
         t = jnp.where(free, gap + beta * t, 0.0)
         r = compliance(t)
@@ -102,17 +120,40 @@ def contact_cg(
         wrong = ((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0))
         step_size = jnp.where(tau > 0, tau, 1.0)
         moved = jnp.where(wrong, p - step_size * gap, moved)
-        moved = _with_total(moved, total, hardness)
+        return _with_total(moved, total, hardness), t, jnp.any(wrong)
+
+    def step(state: ContactState) -> ContactState:
+        p = state.pressure
+        gap, free, offset = gaps(compliance, heights, p, hardness)
+        residual = residual_of(gap, p)
+        converged = residual <= tolerance
+        norm = _masked_sum(free, gap * gap)
+        in_contact = jnp.sum(p > 0)
+        mixing = (state.mix_steps > 0) | ((in_contact > 0) & (jnp.sum(free) <= _MIN_FREE_SHARE * in_contact))
+        moved, t, restart = jax.lax.cond(
+            mixing,
+            lambda: (
+                _bearing_mix(gap + offset, p, total, hardness, state.mix_factor),
+                jnp.zeros_like(p),
+                jnp.array(True),
+            ),
+            lambda: cg_step(state, gap, free, norm),
+        )
+        # A mixing run lasts `_MIX_STEPS` steps with a decaying weight; a CG step resets both.
+        mix_steps = jnp.where(mixing, jnp.where(state.mix_steps > 0, state.mix_steps - 1, _MIX_STEPS - 1), 0)
+        mix_factor = jnp.where(mixing, state.mix_factor * _MIX_DECAY, _MIX_FACTOR)
         keep = converged
         return ContactState(
             pressure=jnp.where(keep, p, moved),
             direction=jnp.where(keep, state.direction, t),
-            previous_norm=jnp.where(keep, state.previous_norm, norm),
-            restart=jnp.where(keep, state.restart, jnp.any(wrong)),
+            previous_norm=jnp.where(keep, state.previous_norm, jnp.where(mixing, 0.0, norm)),
+            restart=jnp.where(keep, state.restart, restart),
             iterations=state.iterations + jnp.where(keep, 0, 1),
             converged=converged,
             offset=offset,
             residual=residual,
+            mix_factor=jnp.where(keep, state.mix_factor, mix_factor),
+            mix_steps=jnp.where(keep, state.mix_steps, mix_steps),
         )
 
     def running(state: ContactState):
@@ -128,6 +169,8 @@ def contact_cg(
         converged=jnp.array(False),
         offset=jnp.zeros((), dtype),
         residual=jnp.full((), jnp.inf, dtype),
+        mix_factor=jnp.asarray(_MIX_FACTOR, dtype),
+        mix_steps=jnp.zeros((), jnp.int32),
     )
     state = jax.lax.while_loop(running, step, start)
     # The loop's last step may have moved p past the check: check the final pressure once more.
