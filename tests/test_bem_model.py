@@ -152,3 +152,15 @@ def test_the_seed_models_elastic_reference_has_every_spot_elastic():
         loads = loads_for_fractions(scene, (0.12,))
     sol = jc.solve(scene, loads, outputs=jc.Outputs(regime_shares=True))
     np.testing.assert_array_equal(np.asarray(sol.load_share)[0], [1.0, 0.0, 0.0, 0.0])
+
+
+def test_the_studys_surface_map_is_the_surface_the_model_solves():
+    """`studies._bem_fits.surface_map`, the map the joint-inference study characterises, solved by
+    `bem.solve` gives the BEM model's own K (one realisation, tangent stiffness)."""
+    from jaxcontact.studies._bem_fits import surface_map
+
+    model = jc.BEM(grid=64, realisations=1, seed=3, relative_step=0.0)
+    scene = make_scene(**SMALL, model=model)
+    heights = surface_map(scene, model).heights()
+    direct = bem.solve(jnp.asarray(heights), L, E, jnp.asarray(LOADS))
+    np.testing.assert_allclose(np.asarray(jc.solve(scene, LOADS).stiffness), np.asarray(direct.stiffness), rtol=1e-6)

@@ -37,7 +37,8 @@ def add_compare_options(p) -> None:
         "--fits",
         action="store_true",
         help="D and G fitted to BEM curves of synthetic surfaces (D = 1.3, 1.5, 1.7; --realisations seeds each, "
-        "l_min = L/16 on 64²) by the BEM model and by each comparator",
+        "l_min = L/16 on 64²) by the BEM model and by each comparator, without and with the surface's own "
+        "characterisation as prior",
     )
     p.add_argument(
         "--plasticity",

@@ -1,6 +1,7 @@
-"""Does a stiffness curve determine D when the model is right? D and G fitted with the boundary-element
-model to noisy BEM curves of synthetic surfaces of known D, beside the same fits with the
-comparators (docs/validation.md, "What a curve determines")."""
+"""Does a stiffness curve determine D when the model is right, and what does it add to the measured
+surface? D and G fitted with the boundary-element model to noisy BEM curves of synthetic surfaces of
+known D, beside the same fits with the comparators, each without and with the surface's own
+characterisation as a prior (docs/fitting.md, "What the curve adds to the surface")."""
 
 from __future__ import annotations
 
@@ -31,16 +32,21 @@ def bem_fit_rows(
     fractions=(0.005, 0.15),
     noise: float = 0.03,
     start=(1.4, 3.0),
+    priors=(False, True),
     progress=None,
 ) -> list[dict]:
     """For each D and seed: an elastic BEM curve of that realisation (grid 4·`divisions`, l_min = L/divisions,
     `loads` loads where Persson's contact area spans `fractions`, log-normal noise of sd `noise`),
     fitted for D and G by each model of `FIT_MODELS` (LM, Latin-hypercube starts beside D = `start[0]`,
-    G = `start[1]` × the true G; the seed model with every spot elastic, `elastic`).
+    G = `start[1]` × the true G; the seed model with every spot elastic, `elastic`), once alone and
+    once (`priors` holding True) with the prior of the same surface's map characterised
+    (`topography.characterise`, in its spectrum's coordinates; the fit starts at its estimate, the BEM
+    model's from 2 starts instead of 4).
 
-    **Returns:** one dict per (D, seed, model): `D_true`, `seed`, `model`, `D`, `D_low`, `D_high`
-    (the 95 % interval), `covered`, `G_ratio` (fitted over true G), `success`, `seconds`,
-    `describes_data`.
+    **Returns:** one dict per (D, seed, model, prior): `D_true`, `seed`, `model`, `prior`, `D`, `D_low`,
+    `D_high` (the 95 % interval), `covered`, `G_ratio` (fitted over true G), `G_covered`, `success`,
+    `seconds`, `describes_data`; and the surface's own `D_surface`, `D_surface_low`, `D_surface_high`,
+    `G_surface_ratio`, `G_surface_covered`.
     """
     import warnings
 
@@ -49,16 +55,32 @@ def bem_fit_rows(
     # The seed model's elastic limit is a hardness far below what metals have (`elastic`).
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)
-        return _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, progress)
+        return _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress)
 
 
-def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, progress) -> list[dict]:
+def surface_map(scene, model):
+    """The map of the BEM model's first realisation of the scene's surface, as an instrument would give it
+    (a periodic SurfaceTopography `Topography` in m), heights exactly those the model solves."""
+    import jax.numpy as jnp
+    import SurfaceTopography as st
+
+    from ..bem._synthesis import synthesised_heights
+    from ..quantities import nondimensionalise
+
+    s = nondimensionalise(scene)
+    size = math.sqrt(float(scene.area))
+    heights = synthesised_heights(s.D, s.log_G, s.log_a_min, model.grid, (model.seed,), model.rolloff, jnp.float64)
+    return st.Topography(np.asarray(heights[0], float) * size, (size, size), periodic=True, unit="m")
+
+
+def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress) -> list[dict]:
     import equinox as eqx
 
     import fitting
 
     from ..bem import BEM
     from ..core import solve
+    from ..topography import characterise
 
     size = math.sqrt(float(scene.area))
     G_true = float(scene.surface.G)
@@ -71,32 +93,48 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, progr
             right = BEM(grid=4 * divisions, realisations=1, seed=seed)
             clean = np.asarray(solve(truth.with_model(right), F).stiffness)
             K = clean * np.exp(noise * np.random.default_rng(seed).standard_normal(len(F)))
+            surface = characterise(surface_map(truth, right))
+            G_low, G_high = surface.ci95["G"]
+            own = {
+                "D_surface": surface.D,
+                "D_surface_low": surface.ci95["D"][0],
+                "D_surface_high": surface.ci95["D"][1],
+                "G_surface_ratio": surface.G / G_true,
+                "G_surface_covered": bool(G_low <= G_true <= G_high),
+            }
             for label, options in FIT_MODELS.items():
                 model_scene = truth.with_model(right) if options is None else truth.with_model(**options)
-                begin = eqx.tree_at(
-                    lambda s: (s.surface.D, s.surface.G),
-                    model_scene,
-                    (np.asarray(start[0], float), np.asarray(start[1] * G_true, float)),
-                )
-                t = time.perf_counter()
-                starts = 4 if options is None else 8  # the BEM's fits are the costly ones
-                result = fitting.fit(F, K, begin, params=("D", "G"), method="lm", n_starts=starts)
-                low, high = result.ci95["D"]
-                rows.append(
-                    {
-                        "D_true": D,
-                        "seed": seed,
-                        "model": label,
-                        "D": result.values["D"],
-                        "D_low": low,
-                        "D_high": high,
-                        "covered": bool(low <= D <= high),
-                        "G_ratio": result.values["G"] / G_true,
-                        "success": bool(result.success),
-                        "describes_data": bool(result.describes_data),
-                        "seconds": time.perf_counter() - t,
-                    }
-                )
+                for prior in priors:
+                    begin = (start[0], start[1] * G_true) if not prior else (surface.D, surface.G)
+                    begin = eqx.tree_at(
+                        lambda s: (s.surface.D, s.surface.G), model_scene, tuple(np.asarray(x, float) for x in begin)
+                    )
+                    t = time.perf_counter()
+                    # The BEM's fits are the costly ones; with a prior its mean is the first start.
+                    starts = (2 if prior else 4) if options is None else 8
+                    result = fitting.fit(
+                        F, K, begin, params=("D", "G"), method="lm", n_starts=starts, prior=surface if prior else None
+                    )
+                    low, high = result.ci95["D"]
+                    G_low, G_high = result.ci95["G"]
+                    rows.append(
+                        {
+                            "D_true": D,
+                            "seed": seed,
+                            "model": label,
+                            "prior": prior,
+                            "D": result.values["D"],
+                            "D_low": low,
+                            "D_high": high,
+                            "covered": bool(low <= D <= high),
+                            "G_ratio": result.values["G"] / G_true,
+                            "G_covered": bool(G_low <= G_true <= G_high),
+                            "success": bool(result.success),
+                            "describes_data": bool(result.describes_data),
+                            "seconds": time.perf_counter() - t,
+                            **own,
+                        }
+                    )
             done += 1
             if progress is not None:
                 progress(done, total)
@@ -104,16 +142,33 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, progr
 
 
 def bem_fit_table(rows) -> str:
-    """Per true D and model: the mean fitted D, the mean half-width of its interval, the coverage."""
-    lines = [f"{'D':>4} {'model':>16} {'D fitted: mean (min–max)':>26} {'± (95 %)':>9} {'coverage':>9}"]
+    """Per true D, model and prior: the mean fitted D, the mean half-width of its interval, the coverage
+    of D and of G; and per D the surface's own characterisation."""
+    lines = [
+        f"{'D':>4} {'model':>16} {'prior':>6} {'D fitted: mean (min–max)':>26} {'± (95 %)':>9} "
+        f"{'describes':>10} {'D covered':>10} {'G covered':>10}"
+    ]
     for D in sorted({r["D_true"] for r in rows}):
+        first = {r["seed"]: r for r in rows if r["D_true"] == D}.values()
+        values = np.array([r["D_surface"] for r in first])
+        half = np.array([(r["D_surface_high"] - r["D_surface_low"]) / 2 for r in first])
+        covered = sum(r["D_surface_low"] <= D <= r["D_surface_high"] for r in first)
+        lines.append(
+            f"{D:>4} {'surface alone':>16} {'–':>6} {values.mean():>10.3f} ({values.min():.3f}–{values.max():.3f})"
+            f"{np.nanmean(half):>9.3f} {'–':>10} {covered:>6}/{len(first)} "
+            f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)}"
+        )
         for label in FIT_MODELS:
-            sel = [r for r in rows if r["D_true"] == D and r["model"] == label]
-            values = np.array([r["D"] for r in sel])
-            half = np.array([(r["D_high"] - r["D_low"]) / 2 for r in sel])
-            covered = sum(r["covered"] for r in sel)
-            lines.append(
-                f"{D:>4} {label:>16} {values.mean():>10.3f} ({values.min():.3f}–{values.max():.3f})"
-                f"{np.nanmean(half) if np.isfinite(half).any() else float('nan'):>9.3f} {covered:>5}/{len(sel)}"
-            )
+            for prior in sorted({r["prior"] for r in rows}):
+                sel = [r for r in rows if r["D_true"] == D and r["model"] == label and r["prior"] == prior]
+                values = np.array([r["D"] for r in sel])
+                half = np.array([(r["D_high"] - r["D_low"]) / 2 for r in sel])
+                lines.append(
+                    f"{D:>4} {label:>16} {'yes' if prior else 'no':>6} {values.mean():>10.3f} "
+                    f"({values.min():.3f}–{values.max():.3f})"
+                    f"{np.nanmean(half) if np.isfinite(half).any() else float('nan'):>9.3f} "
+                    f"{sum(r['describes_data'] for r in sel):>6}/{len(sel)} "
+                    f"{sum(r['covered'] for r in sel):>6}/{len(sel)} "
+                    f"{sum(r['G_covered'] for r in sel):>6}/{len(sel)}"
+                )
     return "\n".join(lines)
