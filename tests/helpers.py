@@ -75,3 +75,22 @@ def total_loads(joint, log_a_l):
 def log_total_load_slopes(joint, log_a_l):
     """d ln F_t*/d ln a_l* at each ln a_l*."""
     return jax.vmap(jax.grad(lambda x: jax.numpy.log(joint.total_load(x))))(log_a_l)
+
+
+def scipy_approach(scene, loads, F0, epsrel=1e-12):
+    """δ(F) − δ(F0) = ∫_{F0}^{F} dF'/K(F') at each of `loads`, by scipy's adaptive quad in ln F, K from `solve`."""
+    import numpy as np
+    from scipy import integrate
+
+    def one(F):
+        value, _ = integrate.quad(
+            lambda t: np.exp(t) / float(jc.solve(scene, np.exp(t)).stiffness),
+            np.log(F0),
+            np.log(F),
+            epsrel=epsrel,
+            epsabs=0.0,
+            limit=400,
+        )
+        return value
+
+    return np.array([one(float(F)) for F in np.atleast_1d(loads)])

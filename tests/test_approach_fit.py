@@ -5,31 +5,13 @@ import equinox as eqx
 import jax
 import numpy as np
 import pytest
-from helpers import SEC51, TABLE1, make_scene
-from scipy import integrate
+from helpers import SEC51, TABLE1, make_scene, scipy_approach
 
 import fitting
 import jaxcontact as jc
 from jaxcontact import InputError
 
 LOADS = np.geomspace(2.2, 2200.0, 12)
-
-
-def scipy_approach(scene, loads, F0):
-    """∫_{F0}^{F} dF'/K(F') by scipy quad in ln F, K from `solve`, to 1e-12."""
-
-    def one(F):
-        value, _ = integrate.quad(
-            lambda t: np.exp(t) / float(jc.solve(scene, np.exp(t)).stiffness),
-            np.log(F0),
-            np.log(F),
-            epsrel=1e-12,
-            epsabs=0.0,
-            limit=400,
-        )
-        return value
-
-    return np.array([one(F) for F in loads])
 
 
 @pytest.fixture(scope="module")
