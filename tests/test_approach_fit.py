@@ -10,6 +10,7 @@ from helpers import SEC51, TABLE1, make_scene, scipy_approach
 import fitting
 import jaxcontact as jc
 from jaxcontact import InputError
+from jaxcontact.numerics import x64
 
 LOADS = np.geomspace(2.2, 2200.0, 12)
 
@@ -30,6 +31,14 @@ def test_quadrature_default_nodes_within_1e7(table1_curve):
     scene, expected = table1_curve
     result = jc.approach_quadrature(scene, LOADS, float(LOADS[0]))
     np.testing.assert_allclose(result.approach[1:], expected[1:], rtol=1e-7, atol=0.0)
+
+
+def test_quadrature_in_float32_within_1e5(table1_curve):
+    scene, expected = table1_curve
+    with x64(False):
+        result = jc.approach_quadrature(make_scene(**TABLE1), LOADS.astype(np.float32), np.float32(LOADS[0]))
+        assert result.approach.dtype == np.float32
+        np.testing.assert_allclose(np.asarray(result.approach)[1:], expected[1:], rtol=1e-5)
 
 
 def test_quadrature_across_regime_kinks():
