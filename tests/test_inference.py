@@ -208,7 +208,7 @@ def small_map_joint_fits():
 
 
 def test_joint_inference_with_a_small_maps_prior_covers_d(small_map_joint_fits):
-    """In its spectrum's coordinates the prior keeps its bend: 17 of 20 (in (D, ln G) it gave 11)."""
+    """In its spectrum's coordinates the prior keeps the bend that a Gaussian in (D, ln G) loses."""
     D, _, results = small_map_joint_fits
     assert sum(r.ci95["D"][0] <= D <= r.ci95["D"][1] for r in results) >= 17
 
