@@ -200,6 +200,7 @@ def fit(
         profiles=profiles,
         information=information,
         prior=None if gaussian is None else gaussian.source,
+        observables=data.columns,
     )
 
 

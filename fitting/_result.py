@@ -29,7 +29,8 @@ class FitResult:
     `fitting.Combination` with its standard error, docs/fitting.md); `profiles` (by name, a
     `fitting.Profile` where asked for); `information` (with a prior: by name, the standard errors of
     the prior alone, the curve alone and both, and the curve's share of the information); `prior`
-    (where the prior came from, or None).
+    (where the prior came from, or None); `observables` (what was fitted: "stiffness", "approach" or both;
+    with an approach curve the loss is over residuals divided by each observable's σ).
     """
 
     params: tuple[str, ...]
@@ -54,11 +55,13 @@ class FitResult:
     profiles: dict = dataclasses.field(default_factory=dict)
     information: dict = dataclasses.field(default_factory=dict)
     prior: str | None = None
+    observables: tuple[str, ...] = ("stiffness",)
 
     def summary(self) -> str:
         lines = [
             f"fit by {self.method}: {'converged' if self.success else 'NOT converged'} in {self.iterations} "
-            f"iterations, {self.wall_time:.2f} s; rms log residual {math.sqrt(2 * self.loss):.3g}"
+            f"iterations, {self.wall_time:.2f} s; {_RMS_LABEL.get(self.observables, 'rms weighted residual')} "
+            f"{math.sqrt(2 * self.loss):.3g}"
         ]
         for name in self.params:
             lo, hi = self.ci95[name]
@@ -116,4 +119,9 @@ class FitResult:
             },
             "information": self.information,
             "prior": self.prior,
+            "observables": list(self.observables),
         }
+
+
+# The loss's unit, by what was fitted: ln K alone, else residuals divided by their noise.
+_RMS_LABEL = {("stiffness",): "rms log residual"}

@@ -128,3 +128,16 @@ def test_noise_of_an_unfitted_observable_is_refused():
 def test_no_curve_is_refused():
     with pytest.raises(InputError, match="give at least one measured curve"):
         fitting.fit(LOADS, None, make_scene(**START))
+
+
+def test_a_joint_fit_names_its_observables(joint_fit):
+    assert joint_fit.observables == ("stiffness", "approach")
+
+
+def test_a_stiffness_inconsistent_with_the_approach_is_not_described(table1_curve):
+    """K 20 % above what the approach's slope says: no parameters describe both, and the fit says so."""
+    scene, delta = table1_curve
+    K = 1.2 * np.asarray(jc.solve(scene, LOADS).stiffness)
+    noise = {"stiffness": 0.01, "approach": 1e-3 * float(np.sqrt(np.mean(delta**2)))}
+    result = fitting.fit(LOADS, K, make_scene(**START), approach=delta, noise=noise, n_starts=3)
+    assert not result.describes_data
