@@ -7,7 +7,8 @@ thin ridge where the true one bends: with D uncertain by ±0.3 (a small map) its
 stiffness curve's ridge at a point far from the truth, with a confident, wrong posterior. The prior
 is therefore stated in the fit's own coordinates, decorrelated: the slope, and `ln C` at the
 wavevector where its error is independent of the slope's (`q_ref`), each a smooth function of
-(D, ln G) (`topography._conventions`), and the Laplace covariance linearises it at the optimum.
+(D, ln G) (`topography.spectral_slope`, `topography.log_prefactor`), and the Laplace covariance
+linearises it at the optimum.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import math
 import numpy as np
 from scipy import special
 
-from jaxcontact.topography._conventions import log_prefactor, spectral_slope
+from jaxcontact.topography import log_prefactor, spectral_slope
 
 
 def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:

@@ -5,7 +5,15 @@ Reading and synthesis use SurfaceTopography (the `surface` extra: `pip install j
 
 from ._characterise import METHODS, characterise
 from ._checks import compared
-from ._conventions import CONVENTIONS, areal_prefactor, convert_G, profile_prefactor, structure_function_constant
+from ._conventions import (
+    CONVENTIONS,
+    areal_prefactor,
+    convert_G,
+    log_prefactor,
+    profile_prefactor,
+    spectral_slope,
+    structure_function_constant,
+)
 from ._psd import NoBandError
 from ._read import read
 from ._result import Characterisation
@@ -25,9 +33,11 @@ __all__ = [
     "characterise",
     "characterise_stitched",
     "convert_G",
+    "log_prefactor",
     "profile_prefactor",
     "random_profile",
     "read",
+    "spectral_slope",
     "stiffness_band",
     "structure_function_constant",
     "wm_profile",
