@@ -23,9 +23,9 @@ from ._statistics import point_scatter
 # optimiser sees them), so that fits of curves of different lengths and with different fixed
 # parameter values (the scene's floats are traced) share one compiled model.
 POINTS_MULTIPLE = 64
-# A scatter estimate of a smooth, noiseless curve is its round-off and curvature: below these
-# (0.1 % of K; 0.1 % of the rms approach) no weight is believed.
-_SCATTER_FLOOR = {"stiffness": 1e-3, "approach": 1e-3}
+# A scatter estimate of a smooth, noiseless curve is its round-off and curvature: below this share of
+# the observable's size (0.1 % of K; 0.1 % of the rms approach) no weight is believed.
+_SCATTER_FLOOR = 1e-3
 
 
 def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
@@ -121,5 +121,5 @@ def _default_sigma(column: str, loads, values, n_columns: int) -> float:
     if n_columns == 1:
         return size
     scatter = point_scatter(np.log(loads[keep]), values[keep]) if keep.sum() >= 3 else math.nan
-    floor = _SCATTER_FLOOR[column] * size
+    floor = _SCATTER_FLOOR * size
     return max(scatter, floor) if math.isfinite(scatter) else size
