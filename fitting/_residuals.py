@@ -37,7 +37,6 @@ FLAGGED_RESIDUAL = 1.0  # a miss by a factor e in stiffness
 # an infinite factor; this stands for it, worse than any misfit a model of the data could have, so
 # that no start wins by making the stiffness vanish.
 ZERO_STIFFNESS_RESIDUAL = 50.0
-OBSERVABLES = ("stiffness", "approach")
 # Gauss–Legendre nodes per piece of the approach's quadrature: ~1e-8 relative (docs/applications.md),
 # far below any displacement sensor's noise.
 APPROACH_NODES = 8
@@ -48,8 +47,8 @@ class Observations(eqx.Module):
 
     `loads` (N); `targets` (load, column): ln K and/or δ − δ(F0) (m), NaN where not measured;
     `weights` (column): 1/σ; `flagged` (column): the residual of a point outside the model, in the
-    column's units before weighting; `reference_load` F0 (N) of the approach; `columns`, a tuple of
-    `OBSERVABLES` (static).
+    column's units before weighting; `reference_load` F0 (N) of the approach; `columns`: "stiffness"
+    and/or "approach" (static).
     """
 
     loads: Float[Array, " points"]

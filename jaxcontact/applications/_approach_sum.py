@@ -63,20 +63,18 @@ def approach_star(scene: Scene, log_loads, log_reference, nodes: int):
     # A piece of zero length needs no valid node (its nodes all sit on a load that is checked itself).
     bad = jnp.any(~good, axis=1) & (half > 0)
     total = jnp.concatenate([jnp.zeros_like(piece[:1]), jnp.cumsum(piece)])
-    crossed = jnp.concatenate([jnp.zeros((1,), jnp.int32), jnp.cumsum(bad.astype(jnp.int32))])
     at = jnp.searchsorted(ends, log_loads)
     at_reference = jnp.searchsorted(ends, log_reference)
     delta = total[at] - total[at_reference]
-    status = jnp.where(crossed[at] != crossed[at_reference], Status.NOT_CONVERGED, Status.OK)
-    # The first bad node on the path names the reason better than "not converged".
+    # A load is flagged when a piece on its path from the preload has a bad node, with the status of
+    # the first bad node of the first such piece (K = 0 has status ok: "not converged" stands for it).
     first = jnp.argmax(~good, axis=1)
     reasons = jnp.take_along_axis(sol.status.reshape(x.shape), first[:, None], axis=1)[:, 0]
-    reasons = jnp.where(reasons == Status.OK, Status.NOT_CONVERGED, reasons)  # K = 0 has status ok
+    reasons = jnp.where(reasons == Status.OK, Status.NOT_CONVERGED, reasons)
     lo, hi = jnp.minimum(at, at_reference), jnp.maximum(at, at_reference)
     pieces = jnp.arange(half.size)
     on_path = (pieces[None, :] >= lo[:, None]) & (pieces[None, :] < hi[:, None]) & bad[None, :]
-    named = reasons[jnp.argmax(on_path, axis=1)]
-    status = jnp.where(status == Status.OK, status, named)
+    status = jnp.where(jnp.any(on_path, axis=1), reasons[jnp.argmax(on_path, axis=1)], Status.OK)
     return jnp.where(status == Status.OK, delta, jnp.nan), status.astype(jnp.int32)
 
 
