@@ -70,9 +70,9 @@ def _with_total(pressure, total, hardness):
 def _bearing_mix(raw, pressure, total, hardness, factor):
     """One mixing step: toward the bearing-area solution of the gap `raw` (the `total / H` points of
     smallest gap at p = H), by `factor`, then rescaled to `total` and capped."""
-    count = jnp.ceil(total / hardness)
-    rank = jnp.argsort(jnp.argsort(raw.reshape(-1))).reshape(raw.shape)
-    bearing = jnp.where(rank < count, hardness, 0.0)
+    count = jnp.clip(jnp.ceil(total / hardness).astype(jnp.int32), 1, raw.size)
+    threshold = jnp.sort(raw.reshape(-1))[count - 1]
+    bearing = jnp.where(raw <= threshold, hardness, 0.0)
     mixed = (1 - factor) * pressure + factor * bearing
     return jnp.minimum(mixed * (total / jnp.maximum(jnp.sum(mixed), jnp.finfo(raw.dtype).tiny)), hardness)
 
@@ -94,11 +94,14 @@ def contact_cg(
     initial: Float[Array, "n n"],
     tolerance: float,
     max_iterations: int,
+    capped: bool = True,
 ) -> ContactState:
     """The pressure that carries `total` on `heights` (grid units), from `initial`.
 
     Converged when the gap on the free points, the penetration where p = 0 and the separation where
-    p = H are all below `tolerance` (in the height unit).
+    p = H are all below `tolerance` (in the height unit). `capped = False` (an infinite `hardness`,
+    known before tracing) leaves the mixing branch out: under `vmap` a branch is computed whether
+    taken or not, and the bearing-area step's sort costs several FFTs.
     """
 
     def residual_of(gap, pressure):
@@ -129,16 +132,20 @@ def contact_cg(
         converged = residual <= tolerance
         norm = _masked_sum(free, gap * gap)
         in_contact = jnp.sum(p > 0)
-        mixing = (state.mix_steps > 0) | ((in_contact > 0) & (jnp.sum(free) <= _MIN_FREE_SHARE * in_contact))
-        moved, t, restart = jax.lax.cond(
-            mixing,
-            lambda: (
-                _bearing_mix(gap + offset, p, total, hardness, state.mix_factor),
-                jnp.zeros_like(p),
-                jnp.array(True),
-            ),
-            lambda: cg_step(state, gap, free, norm),
-        )
+        if capped:
+            mixing = (state.mix_steps > 0) | ((in_contact > 0) & (jnp.sum(free) <= _MIN_FREE_SHARE * in_contact))
+            moved, t, restart = jax.lax.cond(
+                mixing,
+                lambda: (
+                    _bearing_mix(gap + offset, p, total, hardness, state.mix_factor),
+                    jnp.zeros_like(p),
+                    jnp.array(True),
+                ),
+                lambda: cg_step(state, gap, free, norm),
+            )
+        else:
+            mixing = jnp.array(False)
+            moved, t, restart = cg_step(state, gap, free, norm)
         # A mixing run lasts `_MIX_STEPS` steps with a decaying weight; a CG step resets both.
         mix_steps = jnp.where(mixing, jnp.where(state.mix_steps > 0, state.mix_steps - 1, _MIX_STEPS - 1), 0)
         mix_factor = jnp.where(mixing, state.mix_factor * _MIX_DECAY, _MIX_FACTOR)

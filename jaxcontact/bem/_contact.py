@@ -120,7 +120,7 @@ def solve(
     if tolerance is None:
         tolerance = DEFAULT_TOLERANCE.get(np.dtype(dtype), 1e-5)
     arrays = tuple(jnp.asarray(x, dtype) for x in (heights, size, modulus, loads))
-    cap = jnp.asarray(jnp.inf if hardness is None else hardness, dtype)
+    cap = None if hardness is None else jnp.asarray(hardness, dtype)
     check_range("secant", secant, 0.0, 0.5, low_open=False)
     return _solve(*arrays, cap, substrate, float(tolerance), int(max_iterations), bool(pressure), float(secant))
 
@@ -136,17 +136,24 @@ class GridProblem(eqx.Module):
     scale: Float[Array, ""]
     load_unit: Float[Array, ""]
     stiffness_unit: Float[Array, ""]
+    capped: bool = eqx.field(static=True)
 
     @classmethod
     def build(cls, heights, size, modulus, hardness, substrate: str) -> GridProblem:
+        """`hardness` None is the elastic contact (known before tracing: the iteration then has no
+        plastic branch to carry)."""
         n = heights.shape[-1]
         rms = jax.lax.stop_gradient(jnp.std(heights))
         scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
         spacing = size / n
-        elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
-        cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
+        if hardness is None:
+            cap = jnp.asarray(jnp.inf, heights.dtype)
+        else:
+            elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
+            cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
         compliance = Compliance.build(n, substrate, heights.dtype)
-        return cls(compliance, heights / scale, cap, scale, modulus * scale * spacing, modulus * spacing)
+        unit = modulus * spacing
+        return cls(compliance, heights / scale, cap, scale, unit * scale, unit, hardness is not None)
 
 
 def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterations: int) -> dict:
@@ -161,6 +168,7 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
         jax.lax.stop_gradient(start),
         tolerance,
         max_iterations,
+        problem.capped,
     )
     found = state.pressure
     active, plastic = (found > 0) & (found < problem.cap), found >= problem.cap

@@ -73,7 +73,7 @@ class BEM(AbstractSweptModel):
         seeds = tuple(range(self.seed, self.seed + self.realisations))
         heights = synthesised_heights(s.D, s.log_G, s.log_a_min, self.grid, seeds, self.rolloff, dtype)
         resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
-        hardness = jnp.exp(s.log_hardness) if self.plastic else jnp.asarray(jnp.inf, dtype)
+        hardness = jnp.exp(s.log_hardness) if self.plastic else None
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
         problems = jax.vmap(lambda h: GridProblem.build(h, 1.0, 1.0, hardness, "periodic"))(heights)
         tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pathlib
+import sys
 
 from ._output import CommandError, print_result, progress_bar
 
@@ -52,12 +53,20 @@ def cmd_bench(args) -> int:
 
 
 def _bench_bem(args) -> int:
-    from ..numerics import optional_import
+    from ..bem._surfaces import check_grid_points
+    from ..numerics import MissingExtraError, optional_import
     from ..studies._bem_bench import format_bem_bench, run_bem_bench
 
-    optional_import("ContactMechanics", "jaxcontact bench --bem's comparison")
+    for grid in args.bem_grids:
+        check_grid_points(grid)
+    try:
+        optional_import("ContactMechanics", "jaxcontact bench --bem's comparison")
+        reference = True
+    except MissingExtraError as missing:
+        print(f"{missing}: the JAX solve is timed alone", file=sys.stderr)
+        reference = False
     progress = progress_bar(args.progress, "boundary-element benchmarks", "step")
-    results = run_bem_bench(progress=progress)
+    results = run_bem_bench(tuple(args.bem_grids), reference=reference, progress=progress)
     return _written(args, "bench_bem", results, format_bem_bench(results))
 
 
