@@ -132,7 +132,7 @@ def run_bem_bench(grids=(256, 512, 1024), memory_grids=(1024, 2048), reference=T
 
 def format_bem_bench(r: dict) -> str:
     device = next((v["device"] for k, v in r.items() if k.startswith("per_point")), "?")
-    lines = [f"boundary-element K(F) per point (3 loads, contact fractions 0.7-15 %), JAX on {device} after compilation:"]
+    lines = [f"boundary-element K(F) per point (3 loads, contact fractions 0.7-15 %), JAX on {device}, compiled:"]
     for key, v in r.items():
         if key.startswith("per_point"):
             t, s = v["jax_tangent"], v["jax_secant"]
@@ -156,6 +156,7 @@ def format_bem_bench(r: dict) -> str:
     if f:
         lines.append(
             f"D, G fit with BEM(grid={f['grid']}, realisations={f['realisations']}) to {f['loads']} loads: "
-            f"{f['seconds']:.1f} s ({f['method']}, {f['iterations']} iterations), D = {f['D']:.4f}, G = {f['G']:.4g} m (truth {D}, {G})"
+            f"{f['seconds']:.1f} s ({f['method']}, {f['iterations']} iterations), "
+            f"D = {f['D']:.4f}, G = {f['G']:.4g} m (truth {D}, {G})"
         )
     return "\n".join(lines)
