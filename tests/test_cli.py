@@ -351,6 +351,7 @@ _BEM_BENCH = {
     "per_point_256": {
         "grid": 256,
         "points": 3,
+        "device": "cpu",
         "jax_tangent": {"s_per_point": 0.1, "compile_s": 2.0, "speedup": 9.0, "K_over_contactmechanics": [1.001]},
         "jax_secant": {"s_per_point": 0.3, "compile_s": 2.0, "speedup": 3.0, "K_over_contactmechanics": [1.0]},
         "contactmechanics": {"s_per_point": 0.9},
@@ -363,13 +364,36 @@ def test_bench_bem_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     """`bench --bem` reports each grid's speed-up over ContactMechanics and the memory, as text and JSON."""
     from jaxcontact.studies import _bem_bench
 
-    monkeypatch.setattr(_bem_bench, "run_bem_bench", lambda progress=None: _BEM_BENCH)
+    monkeypatch.setattr(_bem_bench, "run_bem_bench", lambda *args, **kwargs: _BEM_BENCH)
     assert main(["bench", "--bem", "--out", str(tmp_path), "--no-progress"]) == 0
     capsys.readouterr()
     lines = (tmp_path / "bench_bem.txt").read_text().splitlines()
     assert "256²: ContactMechanics 0.900 s; JAX tangent 0.100 s (9.0x)" in lines[1]
     assert lines[2] == "  memory of a solve on 1024²: 81 MiB (73 MiB temporaries, XLA's buffer assignment)"
     assert json.loads((tmp_path / "bench_bem.json").read_text())["per_point_256"]["jax_tangent"]["speedup"] == 9.0
+
+
+def test_bench_bem_without_contactmechanics_times_the_jax_solve_alone(tmp_path, capsys, monkeypatch):
+    """Where ContactMechanics is missing (a GPU machine, say) the grids asked for are timed without it."""
+    import sys
+
+    from jaxcontact.studies import _bem_bench
+
+    asked = {}
+    alone = {"per_point_512": {k: v for k, v in _BEM_BENCH["per_point_256"].items() if k != "contactmechanics"}}
+    alone["per_point_512"]["grid"] = 512
+    monkeypatch.setitem(sys.modules, "ContactMechanics", None)
+    monkeypatch.setattr(_bem_bench, "run_bem_bench", lambda *a, **k: asked.update(a=a, k=k) or alone)
+    assert main(["bench", "--bem", "--bem-grids", "512", "--out", str(tmp_path), "--no-progress"]) == 0
+    assert "the JAX solve is timed alone" in capsys.readouterr().err
+    assert asked == {"a": ((512,),), "k": {"reference": False, "progress": None}}
+    lines = (tmp_path / "bench_bem.txt").read_text().splitlines()
+    assert lines[1] == "  512²: JAX tangent 0.1000 s, secant 0.3000 s"
+
+
+def test_bench_bem_refuses_a_grid_that_is_not_a_power_of_two(capsys):
+    assert main(["bench", "--bem", "--bem-grids", "300", "--no-progress"]) == 2
+    assert "power of two" in capsys.readouterr().err
 
 
 _FIT_BENCH = {
