@@ -93,7 +93,12 @@ class BEM(AbstractSweptModel):
 
         def curve(F_star) -> PointResult:
             loads, valid = stand_in_loads(F_star, 1e-4)
-            stiffness, fraction, status = jax.vmap(one_realisation, in_axes=(0, None))(problems, loads)
+            if self.plastic:
+                # One realisation after another: under `vmap` the iteration's `lax.cond` would compute
+                # its plastic mixing step (a sort of the grid) at every step of every realisation.
+                stiffness, fraction, status = jax.lax.map(lambda problem: one_realisation(problem, loads), problems)
+            else:
+                stiffness, fraction, status = jax.vmap(one_realisation, in_axes=(0, None))(problems, loads)
             status = jnp.select(
                 [~resolved, ~valid],
                 [Status.INVALID_PARAMETERS, Status.INVALID_LOAD],
