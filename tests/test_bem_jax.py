@@ -247,3 +247,27 @@ def test_bad_maps_are_refused(heights, message):
 def test_a_negative_load_is_refused(small):
     with pytest.raises(ValueError, match=r"loads \(N\) = .* is outside its valid range"):
         bem.solve(small, L, E, jnp.array([-1.0]))
+
+
+def _sorted_sizes(jaxpr) -> set:
+    """The operand sizes of every `sort` in `jaxpr` and the programs inside it (loops, branches)."""
+    sizes = set()
+    for equation in jaxpr.eqns:
+        if equation.primitive.name == "sort":
+            sizes.add(int(np.prod(equation.invars[0].aval.shape)))
+        for value in equation.params.values():
+            for inner in value if isinstance(value, (tuple, list)) else (value,):
+                if isinstance(inner, jax.extend.core.ClosedJaxpr):
+                    sizes |= _sorted_sizes(inner.jaxpr)
+                elif isinstance(inner, jax.extend.core.Jaxpr):
+                    sizes |= _sorted_sizes(inner)
+    return sizes
+
+
+@pytest.mark.parametrize("hardness, sorts_the_grid", [(None, False), (1e9, True)])
+def test_only_a_capped_solve_carries_the_plastic_mixing_step(hardness, sorts_the_grid):
+    """The mixing step sorts the grid: under `vmap` a `lax.cond` computes it at every iteration whether
+    taken or not, so an elastic solve must not trace it at all."""
+    solve = lambda h: bem.solve(h, L, E, jnp.asarray(LOADS[:1]), hardness=hardness).offset  # noqa: E731
+    sizes = _sorted_sizes(jax.make_jaxpr(solve)(jnp.zeros((16, 16))).jaxpr)
+    assert (16 * 16 in sizes) == sorts_the_grid
