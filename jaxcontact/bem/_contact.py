@@ -149,8 +149,7 @@ class GridProblem(eqx.Module):
         if hardness is None:
             cap = jnp.asarray(jnp.inf, heights.dtype)
         else:
-            elastic = jnp.isinf(hardness)  # no cap: no derivative through inf / E either
-            cap = jnp.where(elastic, jnp.inf, jnp.where(elastic, 1.0, hardness) * spacing / (modulus * scale))
+            cap = hardness * spacing / (modulus * scale)
         compliance = Compliance.build(n, substrate, heights.dtype)
         unit = modulus * spacing
         return cls(compliance, heights / scale, cap, scale, unit * scale, unit, hardness is not None)
