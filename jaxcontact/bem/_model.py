@@ -13,7 +13,7 @@ import jax.numpy as jnp
 
 from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
-from ..quantities import Status
+from ..quantities import Status, nondimensionalise
 from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep_sides
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
@@ -67,11 +67,21 @@ class BEM(AbstractSweptModel):
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
+    def _heights(self, s, dtype):
+        """Each realisation's heights in units of L = sqrt(A_a), from the dimensionless scene `s`."""
+        seeds = tuple(range(self.seed, self.seed + self.realisations))
+        return synthesised_heights(s.D, s.log_G, s.log_a_min, self.grid, seeds, self.rolloff, dtype)
+
+    def heights(self, scene):
+        """The surfaces this model solves for `scene`: `realisations × grid × grid` heights, m, on a
+        square of side sqrt(A_a) (periodic), in JAX's default float precision."""
+        dtype = jnp.result_type(1.0)
+        return self._heights(nondimensionalise(scene), dtype) * jnp.sqrt(jnp.asarray(scene.area, dtype))
+
     def sweep_solver(self, s, *, tolerance, max_steps):
         del tolerance, max_steps  # the model's own, below
         dtype = jnp.result_type(s.D)
-        seeds = tuple(range(self.seed, self.seed + self.realisations))
-        heights = synthesised_heights(s.D, s.log_G, s.log_a_min, self.grid, seeds, self.rolloff, dtype)
+        heights = self._heights(s, dtype)
         resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
         hardness = jnp.exp(s.log_hardness) if self.plastic else None
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.

@@ -14,21 +14,13 @@ LENGTH, MODULUS, D, G = 100e-6, 210e9, 1.5, 1e-12
 F_STAR = (2e-5, 1e-4, 5e-4)  # contact fractions ~0.7-15 %
 
 
-def _heights(grid: int):
-    """The reference's surface of seed 0 on `grid`² (m), synthesised in JAX (`rolloff = 0`: the
-    same heights as `bem.realisation`, without SurfaceTopography)."""
-    import jax.numpy as jnp
+def _surface(grid: int):
+    """The reference's surface of seed 0 on `grid`² as a scene and the BEM model that solves it
+    (`rolloff = 0`: the heights of `bem.realisation`)."""
+    from .. import BEM, Material, Scene, Surface
 
-    from ..bem._synthesis import synthesised_heights
-
-    log_a_min = 2 * math.log(1 / 64)
-    return synthesised_heights(D, math.log(G / LENGTH), log_a_min, grid, (0,), 0.0, jnp.float64)[0] * LENGTH
-
-
-def _topography(heights):
-    from SurfaceTopography import Topography
-
-    return Topography(np.asarray(heights), (LENGTH, LENGTH), periodic=True, unit="m")
+    scene = Scene(Surface(D=D, G=G, l_min=LENGTH / 64), Material(E=MODULUS, nu=0.3, H=3e8), LENGTH**2)
+    return scene, BEM(grid=grid, realisations=1, rolloff=0.0)
 
 
 def per_point(grid: int, contactmechanics: bool = True) -> dict:
@@ -39,8 +31,10 @@ def per_point(grid: int, contactmechanics: bool = True) -> dict:
     import jax.numpy as jnp
 
     from ..bem import BEMSettings, bem_stiffness, solve
+    from ._bem_fits import surface_map
 
-    heights = _heights(grid)
+    scene, model = _surface(grid)
+    heights = model.heights(scene)[0]
     loads = np.asarray(F_STAR) * MODULUS * LENGTH**2
     tolerance = BEMSettings().penetration_tolerance / grid  # ContactMechanics's pentol, per rms height
     out = {"grid": grid, "points": len(loads), "device": jax.devices()[0].device_kind}
@@ -59,7 +53,7 @@ def per_point(grid: int, contactmechanics: bool = True) -> dict:
         out[label + "_stiffness"] = np.asarray(result.secant_stiffness if secant else result.stiffness).tolist()
     if contactmechanics:
         t = time.perf_counter()
-        reference = bem_stiffness(_topography(heights), MODULUS, loads)
+        reference = bem_stiffness(surface_map(scene, model), MODULUS, loads)
         out["contactmechanics"] = {"s_per_point": (time.perf_counter() - t) / len(loads)}
         out["contactmechanics_stiffness"] = reference.stiffness.tolist()
         for label in ("jax_tangent", "jax_secant"):
@@ -96,10 +90,9 @@ def fit_time(grid: int = 256, realisations: int = 2, loads: int = 6) -> dict:
 
     import fitting
 
-    from .. import BEM, Material, Scene, Surface, solve
+    from .. import BEM, solve
 
-    truth = Scene(Surface(D=D, G=G, l_min=LENGTH / 64), Material(E=MODULUS, nu=0.3, H=3e8), LENGTH**2)
-    truth = truth.with_model(BEM(grid=grid, realisations=realisations))
+    truth = _surface(grid)[0].with_model(BEM(grid=grid, realisations=realisations))
     F = np.geomspace(5e-5, 1e-3, loads) * MODULUS * LENGTH**2
     K = np.asarray(solve(truth, F).stiffness) * np.exp(0.03 * np.random.default_rng(1).standard_normal(loads))
     start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), truth, (1.45, 2e-12))

@@ -61,16 +61,11 @@ def bem_fit_rows(
 def surface_map(scene, model):
     """The map of the BEM model's first realisation of the scene's surface, as an instrument would give it
     (a periodic SurfaceTopography `Topography` in m), heights exactly those the model solves."""
-    import jax.numpy as jnp
     import SurfaceTopography as st
 
-    from ..bem._synthesis import synthesised_heights
-    from ..quantities import nondimensionalise
-
-    s = nondimensionalise(scene)
     size = math.sqrt(float(scene.area))
-    heights = synthesised_heights(s.D, s.log_G, s.log_a_min, model.grid, (model.seed,), model.rolloff, jnp.float64)
-    return st.Topography(np.asarray(heights[0], float) * size, (size, size), periodic=True, unit="m")
+    heights = np.asarray(model.heights(scene)[0], float)
+    return st.Topography(heights, (size, size), periodic=True, unit="m")
 
 
 def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress) -> list[dict]:
