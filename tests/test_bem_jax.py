@@ -271,3 +271,16 @@ def test_only_a_capped_solve_carries_the_plastic_mixing_step(hardness, sorts_the
     solve = lambda h: bem.solve(h, L, E, jnp.asarray(LOADS[:1]), hardness=hardness).offset  # noqa: E731
     sizes = _sorted_sizes(jax.make_jaxpr(solve)(jnp.zeros((16, 16))).jaxpr)
     assert (16 * 16 in sizes) == sorts_the_grid
+
+
+def _loops(function, *args) -> int:
+    """The `while` loops of `function`'s optimised program (XLA removes those whose results are unused)."""
+    return jax.jit(function).lower(*args).compile().as_text().count(" while(")
+
+
+def test_the_offsets_derivative_adds_no_linear_solve():
+    """The secant stiffness and its forward derivative run the same loops (the sweep, the constrained
+    iteration, `x1`): the offset's tangent is a dot product with `x1`, not a solve per direction."""
+    h = jnp.asarray(np.random.default_rng(0).normal(size=(16, 16)))
+    secant = lambda s: bem.solve(s * h, 1.0, 1.0, jnp.array([0.05, 0.1]), secant=0.02).secant_stiffness  # noqa: E731
+    assert _loops(lambda s: jax.jvp(secant, (s,), (1.0,)), 1.0) == _loops(secant, 1.0)

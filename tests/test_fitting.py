@@ -362,3 +362,61 @@ def test_model_stiffness_is_the_solves_stiffness(table1):
     expected = np.asarray(jc.solve(table1, loads).stiffness)
     np.testing.assert_allclose(K[:69], expected[:69], rtol=1e-12)
     assert np.isnan(K[69]) and np.isnan(expected[69])
+
+
+class _Linear:
+    """A linear least-squares objective `r = J u − y` (the optimisers' interface), settled at `settle`."""
+
+    def __init__(self, settle):
+        rng = np.random.default_rng(3)
+        self.J = rng.normal(size=(12, 2))
+        self.y = self.J @ np.array([0.3, -0.2]) + 0.05 * rng.normal(size=12)
+        self.params, self.n_points, self.settle = ("a", "b"), 12, settle
+        self.best = np.linalg.lstsq(self.J, self.y, rcond=None)[0]
+        self.s2 = float(np.sum((self.J @ self.best - self.y) ** 2)) / 10
+
+    def __call__(self, u):
+        return self.J @ np.asarray(u) - self.y, self.J
+
+    def loss(self, u):
+        r = self(u)[0]
+        return 0.5 * float(r @ r) / self.n_points
+
+    def away(self, chi2):
+        """A point whose χ² exceeds the optimum's by `chi2` (in units of the residuals' scale)."""
+        direction = np.array([1.0, 0.5])
+        excess = float(np.sum((self.J @ direction) ** 2)) / self.s2
+        return self.best + direction * np.sqrt(chi2 / excess)
+
+
+@pytest.mark.parametrize("chi2, expected", [(0.02, False), (0.005, True)])
+def test_a_fit_is_settled_within_the_chi2_decrement_it_is_given(chi2, expected):
+    """χ² 0.02 above the optimum (0.14 standard errors) is not settled at 1e-2; 0.005 (0.07) is."""
+    from fitting._optimise import settled
+
+    objective = _Linear(1e-2)
+    assert settled(objective, objective.away(chi2)) is expected
+
+
+def test_a_model_smooth_to_round_off_is_never_settled_early():
+    from fitting._optimise import settled
+
+    objective = _Linear(0.0)
+    assert not settled(objective, objective.away(1e-12))
+
+
+def test_bfgs_ends_at_the_first_settled_iterate():
+    """With a decrement every point passes (1e6), BFGS from far off ends after one iteration, where
+    without one (0) it needs more."""
+    from fitting._optimise import run_bfgs
+
+    start = _Linear(0.0).away(1e4)
+    assert run_bfgs(_Linear(0.0), start, 400, 1e-15).iterations > 1
+    assert run_bfgs(_Linear(1e6), start, 400, 1e-15).iterations == 1
+
+
+def test_a_settled_fit_is_converged():
+    from fitting._optimise import run_bfgs
+
+    objective = _Linear(1e-2)
+    assert run_bfgs(objective, objective.away(1e4), 400, 1e-15).converged

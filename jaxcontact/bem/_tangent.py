@@ -73,6 +73,8 @@ def frozen_solution(
     start = jax.lax.stop_gradient(jnp.where(active, guess - guess_offset * x1, 0.0))
     x2 = _active_solve(compliance, active, rhs, start, tolerance)
     stiffness = jnp.sum(jnp.where(active, x1, 0.0))
-    offset = (total - jnp.sum(plastic_pressure) - jnp.sum(jnp.where(active, x2, 0.0))) / stiffness
+    # Σ x2 = 1ᵀ C_AA⁻¹ rhs = x1ᵀ rhs (C_AA symmetric): written so, the offset's derivative is a dot
+    # product with x1, which depends on the sets alone, and needs no solve per tangent direction.
+    offset = (total - jnp.sum(plastic_pressure) - jnp.sum(jax.lax.stop_gradient(x1) * rhs)) / stiffness
     pressure = jnp.where(active, x2 + offset * x1, plastic_pressure)
     return pressure, offset, stiffness
