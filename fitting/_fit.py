@@ -112,7 +112,9 @@ def fit(
       MINPACK's `xtol`, `ftol` and `gtol`); `None` picks 1e-15 for BFGS and 1e-10 for LM in
       float64, 1e-6 in float32, and never finer than the model's `precision` ε (1e-6 for the
       boundary-element model, whose K moves a grid point of contact at a time) for LM, ε² for BFGS
-      (whose test on the loss's progress is not relative to the loss).
+      (whose test on the loss's progress is not relative to the loss). BFGS with a model of finite
+      precision also ends when the fit is settled: the Gauss–Newton step would lower χ² by less
+      than 0.01 (the parameters within 0.1 standard errors of the optimum).
     - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
     - `prior`: what is known besides the curve: a `jaxcontact.topography.Characterisation` (its D and
       ln G with their covariance, as a Gaussian prior), or a dict by parameter of `(mean, sd)`,

@@ -20,7 +20,6 @@ from scipy import optimize
 from ._parameters import FitParameter
 from ._residuals import Observations, evaluated
 
-
 # A model of finite precision (K moving in steps, a grid point of contact at a time) has a loss with
 # kinks and a Jacobian that jumps at each: the loss's progress cannot end its fits (BFGS's line
 # searches run on at the optimum), and the Gauss–Newton step from the optimum is itself resolved only

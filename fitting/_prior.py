@@ -141,7 +141,8 @@ class PriorObjective:
     whose residuals are `base`'s divided by the noise `sigma`, with the prior's `L⁻¹ (θ − μ)` appended."""
 
     def __init__(self, base: Objective, prior: GaussianPrior, sigma: float):
-        self.base, self.params, self.n_points, self.settle = base, base.params, base.n_points, base.settle
+        self.base, self.params, self.n_points = base, base.params, base.n_points
+        self.settle = getattr(base, "settle", 0.0)
         self.prior, self.sigma, self._root = prior, sigma, prior.root
 
     def __call__(self, u):
