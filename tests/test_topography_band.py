@@ -77,12 +77,24 @@ def test_the_roll_off_of_a_gaussian_transfer_function_is_found():
     assert c.rolloff == pytest.approx(2.5 * SIZE / GRID, rel=0.1)
 
 
+@pytest.mark.parametrize("amount, seed", [(2.5, 106), (4.0, 113)])
+def test_a_straight_line_tilted_by_a_roll_off_gives_way_to_the_corrected_fit(amount, seed):
+    """Maps where a straight window short of the roll-off fits within its scatter (D = 1.34 and 1.26
+    for 1.5, their intervals excluding it) while the corrected window finds the roll-off."""
+    assert tp.characterise(make_map(1.5, "blur", amount, seed)).rolloff is not None
+
+
+@pytest.mark.parametrize("amount, seed", [(2.5, 106), (4.0, 113)])
+def test_D_of_a_map_whose_straight_window_is_tilted_by_a_roll_off(amount, seed):
+    assert abs(tp.characterise(make_map(1.5, "blur", amount, seed)).D - 1.5) < 0.03
+
+
 def test_the_band_stops_short_of_a_sharp_cutoff():
     c = tp.characterise(make_map(1.5, "cut", 10, 0))
     assert c.band[0] >= 10 * SIZE / GRID
 
 
-@pytest.mark.parametrize("kind, amount", [("cut", 10), ("blur", 2.5), ("noise", 0.05)])
+@pytest.mark.parametrize("kind, amount", [("cut", 10), ("blur", 2.5), ("blur", 4.0), ("noise", 0.05)])
 def test_the_joint_95_percent_region_covers_the_truth(kind, amount):
     """20 seeds at D = 1.5."""
     covered = sum(tp.characterise(make_map(1.5, kind, amount, 100 + s)).covers(1.5, G_TRUE) for s in range(20))

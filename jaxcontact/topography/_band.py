@@ -15,8 +15,10 @@ self-affine one) is estimated from the top octave and subtracted; bins within 3�
 out. A **transfer function** (an optical profiler's lateral resolution, a tip) rolls the spectrum
 off gradually, which a straight line absorbs by tilting: a window may therefore carry a Gaussian
 roll-off `exp(-κ q²)` as a third term where that term is significant (3 standard errors) and
-corrects by at most `ROLLOFF_CAP` in ln C; such a window is chosen when it reaches at least
-`ROLLOFF_GAIN` further than the widest straight one. A **sharp cutoff** (a low-pass filter) fails
+corrects by at most `ROLLOFF_CAP` in ln C. Of the widest straight window and the widest corrected
+one, the one that determines the slope better (its band's systematic included) is chosen, and the
+corrected one over a straight window inside it whose short end it corrects by more than
+`Z · SYSTEMATIC` (a line tilted by the roll-off). A **sharp cutoff** (a low-pass filter) fails
 test 1 at once. The tip's reliability cutoff, where known, bounds the band from the start.
 
 The slope's and intercept's covariance is the weighted least-squares one, scaled by the reduced χ²
@@ -45,7 +47,6 @@ CALIBRATION = 0.02
 FLOOR_MARGIN_SLOPE = 0.2
 FLOOR_MARGIN = 2.0
 ROLLOFF_CAP = 4.0
-ROLLOFF_GAIN = 1.25
 TRIM = math.log(2.0)
 
 
@@ -219,6 +220,16 @@ def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
     return theta, covariance, kappa
 
 
+def _tilted(p: _Prepared, straight, corrected) -> bool:
+    """Whether the straight window `straight` (bins i, j) lies inside the roll-off-corrected fit
+    `corrected` and that fit's roll-off lowers ln C at the straight window's short end by more than
+    `Z · SYSTEMATIC`: the straight line is then tilted by the roll-off, however well it fits (its
+    own test cannot see a roll-off over a window where the roll-off and the slope are nearly collinear)."""
+    (_, _, kappa), (ci, cj), _ = corrected
+    i, j = int(straight[0]), int(straight[1])
+    return int(ci) <= i and int(cj) >= j and kappa * -p.u[j] > Z * SYSTEMATIC
+
+
 def select_band(
     spectrum: Spectrum, q_max: float | None = None, slope: float | None = None
 ) -> PowerLaw | tuple[float, float] | None:
@@ -246,7 +257,11 @@ def select_band(
     # the slope better, its band's systematic included: a straight line tilted to absorb a roll-off
     # moves when the short end does.
     fits = [(_with_systematics(p, int(w[0]), int(w[1]), r, slope), w, r) for w, r in options]
-    (theta, covariance, kappa), (i, j), rolloff = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
+    chosen = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
+    corrected = [f for f in fits if f[2]]
+    if corrected and not chosen[2] and _tilted(p, chosen[1], corrected[0]):
+        chosen = corrected[0]
+    (theta, covariance, kappa), (i, j), rolloff = chosen
     i, j = int(i), int(j)
     short = (
         p.short_cause
