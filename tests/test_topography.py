@@ -203,3 +203,12 @@ def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(tmp_path, capsy
     assert len(positive) > 10
     assert all(row["K_lower_95_N_per_m"] < row["K_N_per_m"] < row["K_upper_95_N_per_m"] for row in positive)
     assert (tmp_path / "o" / "stiffness_band.png").is_file()
+
+
+@needs_topographies
+@pytest.mark.parametrize("name", ["dektak-1.csv", "opd-1.opd"])
+def test_a_straight_band_that_agrees_with_the_corrected_one_stands(name):
+    """Both files have a wider roll-off-corrected window whose slope agrees with the straight one's
+    within their combined standard error (0.2 and 0.55 of it): the better determined straight band
+    is kept (taking the corrected one moved D to 1.995 and 1.976)."""
+    assert tp.characterise(tp.read(TOPOGRAPHIES / name, fill_undefined=True)).rolloff is None

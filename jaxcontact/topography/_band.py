@@ -17,9 +17,9 @@ off gradually, which a straight line absorbs by tilting: a window may therefore 
 roll-off `exp(-κ q²)` as a third term where that term is significant (3 standard errors) and
 corrects by at most `ROLLOFF_CAP` in ln C. Of the widest straight window and the widest corrected
 one, the one that determines the slope better (its band's systematic included) is chosen, and the
-corrected one over a straight window inside it whose short end it corrects by more than
-`Z · SYSTEMATIC` (a line tilted by the roll-off). A **sharp cutoff** (a low-pass filter) fails
-test 1 at once. The tip's reliability cutoff, where known, bounds the band from the start.
+corrected one over a straight window inside it that is tilted by its roll-off (`_tilted`). A
+**sharp cutoff** (a low-pass filter) fails test 1 at once. The tip's reliability cutoff, where
+known, bounds the band from the start.
 
 The slope's and intercept's covariance is the weighted least-squares one, scaled by the reduced χ²
 where above 1, plus the band's own systematic: the change of (slope, intercept) when the short end
@@ -221,13 +221,17 @@ def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
 
 
 def _tilted(p: _Prepared, straight, corrected) -> bool:
-    """Whether the straight window `straight` (bins i, j) lies inside the roll-off-corrected fit
-    `corrected` and that fit's roll-off lowers ln C at the straight window's short end by more than
-    `Z · SYSTEMATIC`: the straight line is then tilted by the roll-off, however well it fits (its
-    own test cannot see a roll-off over a window where the roll-off and the slope are nearly collinear)."""
-    (_, _, kappa), (ci, cj), _ = corrected
-    i, j = int(straight[0]), int(straight[1])
-    return int(ci) <= i and int(cj) >= j and kappa * -p.u[j] > Z * SYSTEMATIC
+    """Whether the straight fit `straight` is a line tilted by the roll-off that the corrected fit
+    `corrected` (each `((theta, covariance, kappa), (i, j), rolloff)`) finds: its window lies inside
+    the corrected one, the corrected roll-off lowers ln C at its short end by more than
+    `Z · SYSTEMATIC`, and the two slopes differ by more than their combined standard error. A
+    straight window's own tests cannot see a roll-off over a window where the roll-off and the slope
+    are nearly collinear; where the two slopes agree, the better determined one stands."""
+    (theta, covariance, _), (i, j), _ = straight
+    (theta_c, covariance_c, kappa), (ci, cj), _ = corrected
+    inside = int(ci) <= int(i) and int(cj) >= int(j)
+    material = kappa * -p.u[int(j)] > Z * SYSTEMATIC
+    return inside and material and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0])
 
 
 def select_band(
@@ -259,7 +263,7 @@ def select_band(
     fits = [(_with_systematics(p, int(w[0]), int(w[1]), r, slope), w, r) for w, r in options]
     chosen = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
     corrected = [f for f in fits if f[2]]
-    if corrected and not chosen[2] and _tilted(p, chosen[1], corrected[0]):
+    if corrected and not chosen[2] and _tilted(p, chosen, corrected[0]):
         chosen = corrected[0]
     (theta, covariance, kappa), (i, j), rolloff = chosen
     i, j = int(i), int(j)
