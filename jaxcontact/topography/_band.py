@@ -15,11 +15,10 @@ self-affine one) is estimated from the top octave and subtracted; bins within 3�
 out. A **transfer function** (an optical profiler's lateral resolution, a tip) rolls the spectrum
 off gradually, which a straight line absorbs by tilting: a window may therefore carry a Gaussian
 roll-off `exp(-κ q²)` as a third term where that term is significant (3 standard errors) and
-corrects by at most `ROLLOFF_CAP` in ln C. Of the widest straight window and the widest corrected
-one, the one that determines the slope better (its band's systematic included) is chosen, and the
-corrected one over a straight window inside it that is tilted by its roll-off (`_tilted`). A
-**sharp cutoff** (a low-pass filter) fails test 1 at once. The tip's reliability cutoff, where
-known, bounds the band from the start.
+corrects by at most `ROLLOFF_CAP` in ln C; the better determined of the widest straight and corrected
+windows is chosen, unless the straight one is tilted by the roll-off (`_tilted`). A **sharp cutoff**
+(a low-pass filter) fails test 1 at once. The tip's reliability cutoff, where known, bounds the band
+from the start.
 
 The slope's and intercept's covariance is the weighted least-squares one, scaled by the reduced χ²
 where above 1, plus the band's own systematic: the change of (slope, intercept) when the short end
@@ -221,17 +220,13 @@ def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
 
 
 def _tilted(p: _Prepared, straight, corrected) -> bool:
-    """Whether the straight fit `straight` is a line tilted by the roll-off that the corrected fit
-    `corrected` (each `((theta, covariance, kappa), (i, j), rolloff)`) finds: its window lies inside
-    the corrected one, the corrected roll-off lowers ln C at its short end by more than
-    `Z · SYSTEMATIC`, and the two slopes differ by more than their combined standard error. A
-    straight window's own tests cannot see a roll-off over a window where the roll-off and the slope
-    are nearly collinear; where the two slopes agree, the better determined one stands."""
-    (theta, covariance, _), (i, j), _ = straight
-    (theta_c, covariance_c, kappa), (ci, cj), _ = corrected
-    inside = int(ci) <= int(i) and int(cj) >= int(j)
-    material = kappa * -p.u[int(j)] > Z * SYSTEMATIC
-    return inside and material and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0])
+    """Whether the straight fit (`((theta, covariance, kappa), (i, j), rolloff)`, as `corrected`) is a
+    line tilted by the corrected fit's roll-off, which its own tests cannot see where the roll-off and
+    the slope are nearly collinear: inside the corrected window, lowered at its short end by more
+    than `Z · SYSTEMATIC` in ln C, its slope off by more than the two's combined standard error."""
+    ((theta, covariance, _), (i, j), _), ((theta_c, covariance_c, kappa), (ci, cj), _) = straight, corrected
+    within = ci <= i and cj >= j and kappa * -p.u[j] > Z * SYSTEMATIC
+    return within and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0])
 
 
 def select_band(
@@ -257,16 +252,13 @@ def select_band(
             return None
         i, j = np.unravel_index(int(np.argmin(np.where(candidates, reduced, np.inf))), reduced.shape)
         return 2 * np.pi / p.q[j], 2 * np.pi / p.q[i]
-    # Of the widest straight window and the widest roll-off-corrected one, the one that determines
-    # the slope better, its band's systematic included: a straight line tilted to absorb a roll-off
-    # moves when the short end does.
-    fits = [(_with_systematics(p, int(w[0]), int(w[1]), r, slope), w, r) for w, r in options]
+    # The better determined, the band's systematic included (a line tilted to absorb a roll-off moves
+    # when the short end does), unless the straight one is tilted where it does not move.
+    fits = [(_with_systematics(p, int(w[0]), int(w[1]), r, slope), (int(w[0]), int(w[1])), r) for w, r in options]
     chosen = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
-    corrected = [f for f in fits if f[2]]
-    if corrected and not chosen[2] and _tilted(p, chosen, corrected[0]):
-        chosen = corrected[0]
+    if fits[-1][2] and not chosen[2] and _tilted(p, chosen, fits[-1]):
+        chosen = fits[-1]
     (theta, covariance, kappa), (i, j), rolloff = chosen
-    i, j = int(i), int(j)
     short = (
         p.short_cause
         if j == p.x.size - 1
@@ -274,15 +266,13 @@ def select_band(
         if rolloff
         else "beyond it the spectrum departs from the power law (a roll-off, filter or noise)"
     )
-    long = (
-        (
+    long = "beyond it the spectrum departs from the power law"
+    if i == 0:
+        long = (
             f"fewer than {MIN_MODES} independent modes per bin beyond it"
             if p.lost_long
             else "the measurement's longest wavelength"
         )
-        if i == 0
-        else "beyond it the spectrum departs from the power law"
-    )
     return PowerLaw(
         slope=float(theta[0]),
         intercept=float(theta[1]),
