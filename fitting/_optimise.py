@@ -133,10 +133,15 @@ def run_bfgs(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
     return Outcome(sol.x, objective.loss(sol.x), int(sol.nit), converged)
 
 
+def _gauss_newton(objective: Objective, u):
+    """The residuals, Jacobian and Gauss–Newton step at `u`."""
+    r, J = objective(u)
+    return r, J, np.linalg.lstsq(J, -r, rcond=None)[0]
+
+
 def _gauss_newton_step(objective: Objective, u) -> float:
     """The largest component of the Gauss–Newton step from `u`, relative to `1 + |u|`."""
-    r, J = objective(u)
-    step = np.linalg.lstsq(J, -r, rcond=None)[0]
+    step = _gauss_newton(objective, u)[2]
     return float(np.max(np.abs(step) / (1.0 + np.abs(u))))
 
 
@@ -155,7 +160,7 @@ def settled(objective: Objective, u) -> bool:
     rss = float(r @ r)
     if dof <= 0 or not rss > 0 or not np.all(np.isfinite(J)):
         return False
-    step = np.linalg.lstsq(J, -r, rcond=None)[0]
+    step = _gauss_newton(objective, u)[2]
     explained = float(np.sum((J @ step) ** 2))
     return explained < objective.settle * rss / dof
 
