@@ -7,15 +7,19 @@ independent modes in every bin, take the *widest* in log q in which
 1. a straight line in log-log fits within the bins' own scatter (χ² ≤ ν + 3√(2ν), the variance of
    ln C per bin being the periodogram's scatter over its modes plus `SYSTEMATIC`²), and
 2. a parabola does not improve on it (its quadratic coefficient within 3 standard errors of 0), and
-3. the slope gives 1 < D < 2.
+3. the bin at its short end lies within 3 of its standard deviations of the line (χ² is blind to one
+   bin that a sharp cutoff halves, where an artefact begins), and
+4. the slope gives 1 < D < 2.
 
 Instruments add three artefacts that the window's ends must exclude. A white **noise floor** (a
 spectrum that flattens at its short end, its slope `FLOOR_MARGIN_SLOPE` above that of D = 2, shallower than any
-self-affine one) is estimated from the top octave and subtracted; bins within 3× of it are left
-out. A **transfer function** (an optical profiler's lateral resolution, a tip) rolls the spectrum
+self-affine one) is estimated from the top octave and subtracted; bins within `FLOOR_MARGIN`× of it are
+left out. A **transfer function** (an optical profiler's lateral resolution, a tip) rolls the spectrum
 off gradually, which a straight line absorbs by tilting: a window may therefore carry a Gaussian
 roll-off `exp(-κ q²)` as a third term where that term is significant (3 standard errors) and
-corrects by at most `ROLLOFF_CAP` in ln C; the better determined of the widest straight and corrected
+corrects by at most `ROLLOFF_CAP` in ln C (a bin's mean of `exp(-κ q²)` over its modes is
+`exp(-κ⟨q²⟩)` times the cumulant series `exp(Σ_k (-κ)^k c_k(q²)/k!)`, k = 2…4: without it a strong
+roll-off is under-corrected across a bin, and D biased low); the better determined of the widest straight and corrected
 windows is chosen, unless the straight one is tilted by the roll-off (`_tilted`). A **sharp cutoff**
 (a low-pass filter) fails test 1 at once. The tip's reliability cutoff, where known, bounds the band
 from the start.
@@ -31,21 +35,16 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import special
 
-from ._floor import noise_floor
+from ._binned import MIN_MODES, ORDERS, SYSTEMATIC, Binned, binned, prepare, rolloff_offset
 from ._whole import Spectrum
 
-MIN_MODES = 3
 MIN_RATIO = 4.0
 Z = 3.0
-# No measured spectrum is a power law to better than about 1 % per bin.
-SYSTEMATIC = 0.01
-# Nor is an instrument's height scale known to better than about 1 %: 2 % in C, the same at every q.
+# An instrument's height scale is not known to better than about 1 %: 2 % in C, the same at every q.
 CALIBRATION = 0.02
-FLOOR_MARGIN_SLOPE = 0.2
-FLOOR_MARGIN = 2.0
-ROLLOFF_CAP = 4.0
+ROLLOFF_CAP = 12.0
+ROLLOFF_PASSES = 2
 TRIM = math.log(2.0)
 
 
@@ -71,101 +70,75 @@ class PowerLaw:
     points: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
-@dataclasses.dataclass(frozen=True)
-class _Prepared:
-    x: np.ndarray  # ln q, centred
-    x0: float
-    y: np.ndarray  # ln C, debiased
-    w: np.ndarray  # 1 / variance
-    u: np.ndarray  # -(q / q_top)²
-    q: np.ndarray
-    floor: float
-    lost_long: bool  # bins dropped at the long end for too few modes
-    short_cause: str
+def _all_windows(p: Binned, columns):
+    """Weighted least squares on `columns` over every window [i, j] (j ≥ i + 4), by cumulative moments.
 
-
-def _prepare(spectrum: Spectrum, q_max: float | None) -> _Prepared | None:
-    keep = (spectrum.modes >= MIN_MODES) & (spectrum.C > 0)
-    short_cause = "the grid's shortest wavelength (two spacings)"
-    if q_max is not None and np.any(spectrum.q > q_max):
-        keep &= spectrum.q <= q_max
-        short_cause = "the tip's reliability cutoff"
-    q, C, modes, scatter = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep], spectrum.scatter[keep]
-    q2 = (spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[keep]
-    if q.size < 5:
-        return None
-    floor = noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
-    if floor > 0:
-        above = C > FLOOR_MARGIN * floor
-        q, C, modes, scatter, q2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above]
-        short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
-        if q.size < 5:
-            return None
-    lost_long = bool(spectrum.modes[0] < MIN_MODES)
-    return _prepared(q, C, modes, scatter, floor, lost_long, short_cause, q2)
-
-
-def _prepared(q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="", q_squared=None) -> _Prepared:
-    """`C` (less `floor`, already) in log-log with its per-bin bias correction and weight."""
-    # A bin's mean of `modes` periodogram values of relative variance `scatter` is Gamma-distributed
-    # with shape k = modes / scatter: E ln(mean/C) = ψ(k) - ln k, var ln(mean) = ψ'(k).
-    k = modes / scatter
-    # The floor's subtraction leaves the bin's scatter: relative to what is left, it grows by (C+N)/C.
-    variance = special.polygamma(1, k) * ((C + floor) / C) ** 2
-    x = np.log(q)
-    return _Prepared(
-        x=x - x.mean(),
-        x0=float(x.mean()),
-        y=np.log(C) - (special.digamma(k) - np.log(k)),
-        w=1.0 / (variance + SYSTEMATIC**2),
-        u=-(q * q if q_squared is None else q_squared) / q[-1] ** 2,
-        q=q,
-        floor=floor,
-        lost_long=lost_long,
-        short_cause=short_cause,
-    )
-
-
-def _all_windows(p: _Prepared, columns):
-    """Weighted least squares of `p.y` on `columns` over every window [i, j] (j ≥ i + 4), by cumulative
-    moments: coefficients, their unscaled covariance, χ² and degrees of freedom, as B × B arrays."""
+    **Returns:** `solve(kappa=None)`, giving coefficients, their unscaled covariance, χ² and degrees
+    of freedom as B × B arrays, of `p.y`, or with `kappa` (B × B, per window) of `p.y` less
+    `rolloff_offset(kappa, p.z)` (a roll-off's mean over each bin's modes: linear in the series `p.z`,
+    whose moments are taken once); and which windows are valid.
+    """
     X = np.stack(columns, axis=-1)
+    Y = np.column_stack([p.y, -p.z])
     k = X.shape[1]
     cumulative = lambda a: np.concatenate([np.zeros((1,) + a.shape[1:]), np.cumsum(a, axis=0)])  # noqa: E731
-    XX = cumulative(p.w[:, None, None] * X[:, :, None] * X[:, None, :])
-    XY = cumulative(p.w[:, None] * X * p.y[:, None])
-    YY = cumulative(p.w * p.y * p.y)
     B = p.x.size
     long_end, short_end = np.meshgrid(np.arange(B), np.arange(B), indexing="ij")
     valid = short_end - long_end >= 4
     Ic, Jc = np.where(valid, long_end, 0), np.where(valid, short_end, 4)
-    A = XX[Jc + 1] - XX[Ic] + (~valid)[..., None, None] * np.eye(k)
-    r = XY[Jc + 1] - XY[Ic]
-    inverse = np.linalg.inv(A)
-    coefficients = np.einsum("...ij,...j->...i", inverse, r)
-    chi2 = YY[Jc + 1] - YY[Ic] - np.einsum("...i,...i->...", coefficients, r)
+    window = lambda a: (lambda c: c[Jc + 1] - c[Ic])(cumulative(a))  # noqa: E731
+    outer = lambda a, b: p.w[:, None, None] * a[:, :, None] * b[:, None, :]  # noqa: E731
+    inverse = np.linalg.inv(window(outer(X, X)) + (~valid)[..., None, None] * np.eye(k))
+    XY, YY = window(outer(X, Y)), window(outer(Y, Y))
     dof = np.maximum(Jc - Ic + 1 - k, 1)
-    return coefficients, inverse, np.maximum(chi2, 0.0), dof, valid
+
+    def solve(kappa=None):
+        b = np.zeros(valid.shape + (Y.shape[1],))
+        b[..., 0] = 1.0
+        if kappa is not None:
+            b[..., 1:] = kappa[..., None] ** ORDERS
+        r = np.einsum("...il,...l->...i", XY, b)
+        coefficients = np.einsum("...ij,...j->...i", inverse, r)
+        chi2 = np.einsum("...l,...lm,...m->...", b, YY, b) - np.einsum("...i,...i->...", coefficients, r)
+        return coefficients, inverse, np.maximum(chi2, 0.0), dof
+
+    return solve, valid
 
 
-def _widest(p: _Prepared, ok):
+def _short_end(p: Binned, columns, coefficients, kappa=None):
+    """Each window's residual at its short-end bin, in that bin's standard deviations (B × B)."""
+    y = p.y[None, :] - (0.0 if kappa is None else rolloff_offset(kappa, p.z[None, :, :]))
+    return (y - np.einsum("ijk,jk->ij", coefficients, np.stack(columns, axis=-1))) * np.sqrt(p.w)[None, :]
+
+
+def _widest(p: Binned, ok):
     if not ok.any():
         return None
     span = np.where(ok, p.x[None, :] - p.x[:, None], -1.0)
     return np.unravel_index(int(np.argmax(span)), span.shape)
 
 
-def _windows(p: _Prepared, D_of):
+def _windows(p: Binned, D_of):
     one = np.ones_like(p.x)
-    line, line_inv, line_chi2, line_dof, valid = _all_windows(p, [one, p.x])
-    quad, quad_inv, quad_chi2, quad_dof, _ = _all_windows(p, [one, p.x, p.x * p.x])
-    roll, roll_inv, roll_chi2, roll_dof, _ = _all_windows(p, [one, p.x, p.u])
+    solve, valid = _all_windows(p, [one, p.x])
+    line, line_inv, line_chi2, line_dof = solve()
+    quad, quad_inv, quad_chi2, quad_dof = _all_windows(p, [one, p.x, p.x * p.x])[0]()
+    solve = _all_windows(p, [one, p.x, p.u])[0]
+    roll, roll_inv, roll_chi2, roll_dof = solve()
+    kappa = None
+    # Each window's κ from the pass before gives its bins' offsets.
+    for _ in range(ROLLOFF_PASSES):
+        kappa = roll[..., 2]
+        roll, roll_inv, roll_chi2, roll_dof = solve(kappa)
+    line_end = _short_end(p, [one, p.x], line)
+    roll_end = _short_end(p, [one, p.x, p.u], roll, kappa)
     J = np.arange(p.x.size)[None, :]
     wide = valid & (p.x[None, :] - p.x[:, None] >= math.log(MIN_RATIO))
     passes = lambda chi2, dof: chi2 <= dof + Z * np.sqrt(2 * dof)  # noqa: E731
     straight = (
         wide
         & passes(line_chi2, line_dof)
+        & (np.abs(line_end) <= Z)
         & (np.abs(quad[..., 2]) <= Z * np.sqrt(quad_inv[..., 2, 2] * np.maximum(1, quad_chi2 / quad_dof)))
         & (D_of(line[..., 1]) > 1)
         & (D_of(line[..., 1]) < 2)
@@ -174,6 +147,7 @@ def _windows(p: _Prepared, D_of):
     rolled = (
         wide
         & passes(roll_chi2, roll_dof)
+        & (np.abs(roll_end) <= Z)
         & (kappa_z > Z)
         & (roll[..., 2] * -p.u[J] <= ROLLOFF_CAP)
         & (D_of(roll[..., 1]) > 1)
@@ -182,16 +156,20 @@ def _windows(p: _Prepared, D_of):
     return straight, rolled, line_chi2 / line_dof, D_of(line[..., 1]), wide
 
 
-def _fit(p: _Prepared, i: int, j: int, rolloff: bool, slope: float | None = None):
+def _fit(p: Binned, i: int, j: int, rolloff: bool, slope: float | None = None):
     """(slope, intercept at q = 1), their covariance, and κ, over bins i..j; with `slope` given, the
     intercept (and κ) alone."""
     s = slice(i, j + 1)
-    y = p.y[s] if slope is None else p.y[s] - slope * (p.x[s] + p.x0)
+    measured = p.y[s] if slope is None else p.y[s] - slope * (p.x[s] + p.x0)
     columns = [np.ones(j + 1 - i)] + ([p.x[s]] if slope is None else []) + ([p.u[s]] if rolloff else [])
     X = np.stack(columns, axis=-1)
     w = p.w[s]
     inverse = np.linalg.inv(X.T @ (w[:, None] * X))
+    y = measured
     c = inverse @ (X.T @ (w * y))
+    for _ in range(ROLLOFF_PASSES if rolloff else 0):
+        y = measured - rolloff_offset(c[-1], p.z[s])
+        c = inverse @ (X.T @ (w * y))
     dof = max(X.shape[0] - X.shape[1], 1)
     chi2 = float(np.sum(w * (y - X @ c) ** 2))
     to_physical = np.zeros((2, X.shape[1]))
@@ -206,7 +184,7 @@ def _fit(p: _Prepared, i: int, j: int, rolloff: bool, slope: float | None = None
     return theta, covariance, (float(c[-1]) if rolloff else 0.0)
 
 
-def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
+def _with_systematics(p: Binned, i: int, j: int, rolloff: bool, slope):
     """`_fit` over bins i..j, its covariance with the band's systematic: the change when either end
     moves in by a factor 2."""
     theta, covariance, kappa = _fit(p, i, j, rolloff, slope)
@@ -219,7 +197,7 @@ def _with_systematics(p: _Prepared, i: int, j: int, rolloff: bool, slope):
     return theta, covariance, kappa
 
 
-def _tilted(p: _Prepared, straight, corrected) -> bool:
+def _tilted(p: Binned, straight, corrected) -> bool:
     """Whether the straight fit (`((theta, covariance, kappa), (i, j), rolloff)`, as `corrected`) is a
     line tilted by the corrected fit's roll-off, which its own tests cannot see where the roll-off and
     the slope are nearly collinear: inside the corrected window, lowered at its short end by more
@@ -239,7 +217,7 @@ def select_band(
     window that comes closest (the best straight fit with 1 < D < 2 over a factor 4), to suggest;
     or None when no stretch of the spectrum has a self-affine slope.
     """
-    p = _prepare(spectrum, q_max)
+    p = prepare(spectrum, q_max)
     if p is None:
         return None
     straight, rolled, reduced, D, wide = _windows(p, spectrum.D_of)
@@ -267,6 +245,7 @@ def select_band(
         else "beyond it the spectrum departs from the power law (a roll-off, filter or noise)"
     )
     long = "beyond it the spectrum departs from the power law"
+    inside = slice(i, j + 1)
     if i == 0:
         long = (
             f"fewer than {MIN_MODES} independent modes per bin beyond it"
@@ -282,7 +261,7 @@ def select_band(
         floor=p.floor,
         ends=(long, short),
         bins=j + 1 - i,
-        points=(p.q[i : j + 1], p.y[i : j + 1] - kappa * p.u[i : j + 1], p.w[i : j + 1]),
+        points=(p.q[inside], p.y[inside] - kappa * p.u[inside] - rolloff_offset(kappa, p.z[inside]), p.w[inside]),
     )
 
 
@@ -292,7 +271,7 @@ def fit_band(spectrum: Spectrum, band_q: tuple[float, float], slope: float | Non
     inside = (spectrum.q >= band_q[0]) & (spectrum.q <= band_q[1]) & (spectrum.C > 0)
     if inside.sum() < 4:
         return None
-    p = _prepared(spectrum.q[inside], spectrum.C[inside], spectrum.modes[inside], spectrum.scatter[inside])
+    p = binned(spectrum.q[inside], spectrum.C[inside], spectrum.modes[inside], spectrum.scatter[inside])
     theta, covariance, _ = _fit(p, 0, p.x.size - 1, False, slope)
     ends = ("set by the user", "set by the user")
     return PowerLaw(

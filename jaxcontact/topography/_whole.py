@@ -31,7 +31,9 @@ class Spectrum:
     or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (per bin, the variance of one
     mode's periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
     measurement of a Gaussian surface); `kind` ("areal" or "profile"); `spacing` (m); `q_squared` (the
-    bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q)."""
+    bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q);
+    `q_squared_cumulants` (the 2nd to 4th cumulants of q² over each bin's modes, B × 3: a bin's mean
+    of a strong roll-off departs from its value at the mean q²)."""
 
     q: np.ndarray
     C: np.ndarray
@@ -40,6 +42,7 @@ class Spectrum:
     kind: str
     spacing: float
     q_squared: np.ndarray | None = None
+    q_squared_cumulants: np.ndarray | None = None
 
     @property
     def log_variance(self) -> np.ndarray:
@@ -100,7 +103,13 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
     mean = np.bincount(index, w * c, count)[keep] / total[keep]
     square = np.bincount(index, w * c * c, count)[keep] / total[keep]
     log_q = np.bincount(index, w * np.log(q.ravel()[inside]), count)[keep] / total[keep]
-    q_squared = np.bincount(index, w * q.ravel()[inside] ** 2, count)[keep] / total[keep]
+    q2 = q.ravel()[inside] ** 2
+    q_squared = np.bincount(index, w * q2, count)[keep] / total[keep]
+    centre = np.zeros(count)
+    centre[keep] = q_squared
+    d = q2 - centre[index]
+    wd2 = w * d * d
+    m2, m3, m4 = (np.bincount(index, x, count)[keep] / total[keep] for x in (wd2, wd2 * d, wd2 * d * d))
     modes = total[keep] / 2.0
     scatter = _running_scatter(square / np.maximum(mean, 1e-300) ** 2 - 1.0, modes)
     if not periodic:
@@ -113,6 +122,7 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
         kind="areal" if heights.ndim == 2 else "profile",
         spacing=spacing,
         q_squared=q_squared,
+        q_squared_cumulants=np.stack([m2, m3, m4 - 3 * m2 * m2], axis=-1),
     )
 
 

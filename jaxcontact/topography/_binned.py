@@ -1,0 +1,93 @@
+"""A binned spectrum in log-log, as the band's fits use it: each bin's ln C debiased for the log of
+a Gamma-distributed mean, its weight, and the coordinates of a Gaussian roll-off (docs/topography.md,
+"The band")."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import special
+
+from ._floor import noise_floor
+from ._whole import Spectrum
+
+MIN_MODES = 3
+# No measured spectrum is a power law to better than about 1 % per bin.
+SYSTEMATIC = 0.01
+FLOOR_MARGIN_SLOPE = 0.2
+FLOOR_MARGIN = 2.0
+ORDERS = np.arange(2, 5)
+FACTORIALS = np.array([2.0, 6.0, 24.0])
+
+
+@dataclasses.dataclass(frozen=True)
+class Binned:
+    x: np.ndarray  # ln q, centred
+    x0: float
+    y: np.ndarray  # ln C, debiased
+    w: np.ndarray  # 1 / variance
+    u: np.ndarray  # -(q / q_top)²
+    z: np.ndarray  # B × 3: the 2nd to 4th cumulants of u across each bin's modes over k! (`rolloff_offset`)
+    q: np.ndarray
+    floor: float
+    lost_long: bool  # bins dropped at the long end for too few modes
+    short_cause: str
+
+
+def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
+    """The bins a band may use: enough modes, below `q_max`, above a subtracted noise floor; None
+    where fewer than five remain."""
+    keep = (spectrum.modes >= MIN_MODES) & (spectrum.C > 0)
+    short_cause = "the grid's shortest wavelength (two spacings)"
+    if q_max is not None and np.any(spectrum.q > q_max):
+        keep &= spectrum.q <= q_max
+        short_cause = "the tip's reliability cutoff"
+    q, C, modes, scatter = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep], spectrum.scatter[keep]
+    q2 = (spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[keep]
+    k2 = np.zeros((spectrum.q.size, 3)) if spectrum.q_squared_cumulants is None else spectrum.q_squared_cumulants
+    k2 = k2[keep]
+    if q.size < 5:
+        return None
+    floor = noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
+    if floor > 0:
+        above = C > FLOOR_MARGIN * floor
+        q, C, modes, scatter, q2, k2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above], k2[above]
+        short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
+        if q.size < 5:
+            return None
+    lost_long = bool(spectrum.modes[0] < MIN_MODES)
+    return binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, k2)
+
+
+def binned(
+    q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="", q_squared=None, q_squared_cumulants=None
+) -> Binned:
+    """`C` (less `floor`, already) in log-log with its per-bin bias correction and weight."""
+    # A bin's mean of `modes` periodogram values of relative variance `scatter` is Gamma-distributed
+    # with shape k = modes / scatter: E ln(mean/C) = ψ(k) - ln k, var ln(mean) = ψ'(k).
+    k = modes / scatter
+    # The floor's subtraction leaves the bin's scatter: relative to what is left, it grows by (C+N)/C.
+    variance = special.polygamma(1, k) * ((C + floor) / C) ** 2
+    x = np.log(q)
+    return Binned(
+        x=x - x.mean(),
+        x0=float(x.mean()),
+        y=np.log(C) - (special.digamma(k) - np.log(k)),
+        w=1.0 / (variance + SYSTEMATIC**2),
+        u=-(q * q if q_squared is None else q_squared) / q[-1] ** 2,
+        z=np.zeros((q.size, 3))
+        if q_squared_cumulants is None
+        else q_squared_cumulants * (-1.0 / q[-1] ** 2) ** ORDERS / FACTORIALS,
+        q=q,
+        floor=floor,
+        lost_long=lost_long,
+        short_cause=short_cause,
+    )
+
+
+def rolloff_offset(kappa, z):
+    """What a bin's mean of `exp(κ u)` over its modes adds to `κ ū` in ln C: the cumulant series
+    `Σ_k κ^k c_k(u) / k!`, k = 2…4 (`z` as `Binned.z`, `kappa` broadcasting against it)."""
+    kappa = np.asarray(kappa)[..., None]
+    return np.sum(kappa**ORDERS * z, axis=-1)
