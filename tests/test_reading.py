@@ -165,3 +165,18 @@ def test_surface_reads_an_x_z_profile_with_its_unit(tmp_path, capsys):
     assert main(argv) == 0
     payload = json.loads(capsys.readouterr().out)
     assert abs(payload["psd"]["D"] - 1.5) < 0.05
+
+
+@pytest.mark.parametrize("shape, size", [((64, 48), (1e-5, 2e-5)), ((500,), (1e-5,))])
+def test_an_npy_file_reads_as_surfacetopographys_reader_reads_it(tmp_path, shape, size):
+    """`.npy` heights come from numpy (SurfaceTopography's serial reader copies them one by one):
+    the same heights, sizes and periodicity, a Fortran-ordered array too."""
+    from SurfaceTopography import open_topography
+
+    path = tmp_path / "h.npy"
+    np.save(path, np.asfortranarray(np.random.default_rng(0).standard_normal(shape) * 1e-7))
+    ours = tp.read(path, size=size)
+    theirs = open_topography(str(path)).topography(physical_sizes=size, unit="m").detrend("center")
+    np.testing.assert_array_equal(ours.heights(), theirs.heights())
+    assert ours.physical_sizes == theirs.physical_sizes
+    assert ours.is_periodic == theirs.is_periodic
