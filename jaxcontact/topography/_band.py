@@ -21,7 +21,7 @@ corrects by at most `ROLLOFF_CAP` in ln C (a bin's mean of `exp(-κ q²)` over i
 `exp(-κ⟨q²⟩)` times the cumulant series `exp(Σ_k (-κ)^k c_k(q²)/k!)`, k = 2…4: without it a strong
 roll-off is under-corrected across a bin, and D biased low); the better determined of the widest straight and corrected
 windows is chosen, unless the straight one is tilted by the roll-off (`_tilted`). A **sharp cutoff**
-(a low-pass filter) fails test 1 at once. The tip's reliability cutoff, where known, bounds the band
+(a low-pass filter) fails test 1 or 3 at once. The tip's reliability cutoff, where known, bounds the band
 from the start.
 
 The slope's and intercept's covariance is the weighted least-squares one, scaled by the reduced χ²

@@ -5,6 +5,7 @@ a Gamma-distributed mean, its weight, and the coordinates of a Gaussian roll-off
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 from scipy import special
@@ -18,7 +19,7 @@ SYSTEMATIC = 0.01
 FLOOR_MARGIN_SLOPE = 0.2
 FLOOR_MARGIN = 2.0
 ORDERS = np.arange(2, 5)
-FACTORIALS = np.array([2.0, 6.0, 24.0])
+FACTORIALS = np.array([math.factorial(k) for k in ORDERS], dtype=float)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -45,19 +46,20 @@ def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
         short_cause = "the tip's reliability cutoff"
     q, C, modes, scatter = spectrum.q[keep], spectrum.C[keep], spectrum.modes[keep], spectrum.scatter[keep]
     q2 = (spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[keep]
-    k2 = np.zeros((spectrum.q.size, 3)) if spectrum.q_squared_cumulants is None else spectrum.q_squared_cumulants
-    k2 = k2[keep]
+    cumulants = spectrum.q_squared_cumulants
+    cumulants = (np.zeros((spectrum.q.size, ORDERS.size)) if cumulants is None else cumulants)[keep]
     if q.size < 5:
         return None
     floor = noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
     if floor > 0:
         above = C > FLOOR_MARGIN * floor
-        q, C, modes, scatter, q2, k2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above], k2[above]
+        q, C, modes, scatter, q2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above]
+        cumulants = cumulants[above]
         short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
         if q.size < 5:
             return None
     lost_long = bool(spectrum.modes[0] < MIN_MODES)
-    return binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, k2)
+    return binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, cumulants)
 
 
 def binned(
@@ -76,7 +78,7 @@ def binned(
         y=np.log(C) - (special.digamma(k) - np.log(k)),
         w=1.0 / (variance + SYSTEMATIC**2),
         u=-(q * q if q_squared is None else q_squared) / q[-1] ** 2,
-        z=np.zeros((q.size, 3))
+        z=np.zeros((q.size, ORDERS.size))
         if q_squared_cumulants is None
         else q_squared_cumulants * (-1.0 / q[-1] ** 2) ** ORDERS / FACTORIALS,
         q=q,
