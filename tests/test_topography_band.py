@@ -107,24 +107,27 @@ def _unit_modes_rolled_off(sigma, grid=256):
     return np.fft.irfft2(np.exp(-q2 * sigma**2 / 2) * grid**2 / SIZE, (grid, grid))
 
 
-def test_a_bins_mean_of_a_roll_off_is_its_cumulant_series():
-    """ln of each bin's mean of exp(-κq²) over its modes (computed from the modes themselves) against
-    -κ⟨q²⟩ plus the series that `_band` corrects with, where κ⟨q²⟩ runs to 12 (`ROLLOFF_CAP`)."""
+@pytest.fixture(scope="module")
+def rolled_off_bins():
+    """σ (m), the binned spectrum of `_unit_modes_rolled_off` at σ = 4 spacings of 256, and its bins
+    where κ⟨q²⟩ runs to 12 (`ROLLOFF_CAP`)."""
     sigma = 4.0 * SIZE / 256
-    heights = _unit_modes_rolled_off(sigma)
-    spectrum = whole_spectrum(heights, SIZE / 256, periodic=True)
-    inside = sigma**2 * spectrum.q_squared <= 12
+    spectrum = whole_spectrum(_unit_modes_rolled_off(sigma), SIZE / 256, periodic=True)
+    return sigma, spectrum, sigma**2 * spectrum.q_squared <= 12
+
+
+def test_a_bins_mean_of_a_roll_off_is_its_cumulant_series(rolled_off_bins):
+    """ln of each bin's mean of exp(-κq²) over its modes (computed from the modes themselves) against
+    -κ⟨q²⟩ plus the series that `_band` corrects with."""
+    sigma, spectrum, inside = rolled_off_bins
     z = spectrum.q_squared_cumulants * (-1.0) ** ORDERS / FACTORIALS
     predicted = -(sigma**2) * spectrum.q_squared + rolloff_offset(sigma**2, z)
     assert np.max(np.abs(np.log(spectrum.C) - predicted)[inside]) < 0.003
 
 
-def test_without_the_cumulant_series_the_mean_over_a_bin_departs():
+def test_without_the_cumulant_series_the_mean_over_a_bin_departs(rolled_off_bins):
     """The same bins against -κ⟨q²⟩ alone: what the series corrects is more than 0.1 in ln C."""
-    sigma = 4.0 * SIZE / 256
-    heights = _unit_modes_rolled_off(sigma)
-    spectrum = whole_spectrum(heights, SIZE / 256, periodic=True)
-    inside = sigma**2 * spectrum.q_squared <= 12
+    sigma, spectrum, inside = rolled_off_bins
     assert np.max(np.abs(np.log(spectrum.C) + sigma**2 * spectrum.q_squared)[inside]) > 0.1
 
 
