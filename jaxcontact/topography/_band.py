@@ -24,9 +24,12 @@ windows is chosen, unless the straight one is tilted by the roll-off (`_tilted`)
 (a low-pass filter) fails test 1 or 3 at once. The tip's reliability cutoff, where known, bounds the band
 from the start.
 
-The slope's and intercept's covariance is the weighted least-squares one, scaled by the reduced χ²
-where above 1, plus the band's own systematic: the change of (slope, intercept) when the short end
-moves in by a factor 2 (the end nearest the artefacts).
+The windows are found by weighted least squares on the debiased ln C. The chosen window's power law
+is then fitted by the likelihood of its bins' means (`_likelihood`), which needs no debiasing and so
+takes the long end's few-mode bins too, and beside a floor fits the floor over the bins beyond its
+margin. Its covariance (the inverse Fisher information, scaled by Pearson's χ² per degree of freedom
+where above 1) has the band's own systematic added: the change of (slope, intercept) when either end
+moves in by a factor 2.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ import math
 import numpy as np
 
 from ._binned import MIN_MODES, ORDERS, SYSTEMATIC, Binned, binned, prepare, rolloff_offset
+from ._likelihood import likelihood_fit
 from ._whole import Spectrum
 
 MIN_RATIO = 4.0
@@ -172,6 +176,10 @@ def _fit(p: Binned, i: int, j: int, rolloff: bool, slope: float | None = None):
         c = inverse @ (X.T @ (w * y))
     dof = max(X.shape[0] - X.shape[1], 1)
     chi2 = float(np.sum(w * (y - X @ c) ** 2))
+    # The least-squares fit is the start of the likelihood's, which replaces it where it converges.
+    refined = likelihood_fit(p, i, j, rolloff, c, slope)
+    if refined is not None:
+        c, inverse, chi2, dof = refined
     to_physical = np.zeros((2, X.shape[1]))
     if slope is None:
         to_physical[0, 1] = 1.0
@@ -246,17 +254,21 @@ def select_band(
     )
     long = "beyond it the spectrum departs from the power law"
     inside = slice(i, j + 1)
+    longest = float(p.q[i])
     if i == 0:
         long = (
             f"fewer than {MIN_MODES} independent modes per bin beyond it"
             if p.lost_long
             else "the measurement's longest wavelength"
         )
+        if p.long_end is not None:
+            longest = float(p.long_end.q[0])
+            long = f"the measurement's longest wavelength (bins of < {MIN_MODES} modes in the likelihood fit only)"
     return PowerLaw(
         slope=float(theta[0]),
         intercept=float(theta[1]),
         covariance=covariance,
-        band=(float(p.q[i]), float(p.q[j])),
+        band=(longest, float(p.q[j])),
         rolloff=math.sqrt(kappa) / float(p.q[-1]) if rolloff else None,
         floor=p.floor,
         ends=(long, short),

@@ -34,6 +34,13 @@ class Binned:
     floor: float
     lost_long: bool  # bins dropped at the long end for too few modes
     short_cause: str
+    mean: np.ndarray  # the bins' mean periodogram, the floor not subtracted
+    shape: np.ndarray  # Gamma shape of each bin's mean: modes / scatter
+    # The bins beyond the long end with fewer than `MIN_MODES` modes (as rows of a `Binned`, x centred
+    # on this one's x0): too few for a debiased ln C, not for the likelihood of their means.
+    long_end: Binned | None = None
+    # The bins beyond the short end that the floor's margin left out (raw), where a floor was found.
+    short_end: Binned | None = None
 
 
 def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
@@ -51,40 +58,77 @@ def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
     if q.size < 5:
         return None
     floor = noise_floor(q, C, modes, scatter, float(spectrum.slope_of(2.0)) + FLOOR_MARGIN_SLOPE)
+    beyond = None
     if floor > 0:
         above = C > FLOOR_MARGIN * floor
+        beyond = np.flatnonzero(keep)[~above & (q > q[above][-1] if above.any() else False)]
         q, C, modes, scatter, q2 = q[above], C[above] - floor, modes[above], scatter[above], q2[above]
         cumulants = cumulants[above]
-        short_cause = f"the noise floor (subtracted; within {FLOOR_MARGIN:g}× of it beyond)"
+        short_cause = f"the noise floor (within {FLOOR_MARGIN:g}× of it beyond; fitted there beside the power law)"
         if q.size < 5:
             return None
     lost_long = bool(spectrum.modes[0] < MIN_MODES)
-    return binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, cumulants)
+    p = binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, cumulants)
+    if beyond is not None and beyond.size:
+        p = dataclasses.replace(p, short_end=_rows_of(spectrum, beyond, p))
+    few = (spectrum.modes >= 1) & (spectrum.modes < MIN_MODES) & (spectrum.C > 0) & (spectrum.q < q[0])
+    if not few.any():
+        return p
+    return dataclasses.replace(p, long_end=_rows_of(spectrum, few, p))
+
+
+def _rows_of(spectrum: Spectrum, rows, p: Binned) -> Binned:
+    """The spectrum's bins `rows` (raw, the floor not subtracted) as a `Binned` in `p`'s coordinates."""
+    return binned(
+        spectrum.q[rows],
+        spectrum.C[rows],
+        spectrum.modes[rows],
+        spectrum.scatter[rows],
+        q_squared=(spectrum.q**2 if spectrum.q_squared is None else spectrum.q_squared)[rows],
+        q_squared_cumulants=None if spectrum.q_squared_cumulants is None else spectrum.q_squared_cumulants[rows],
+        x0=p.x0,
+        q_top=float(p.q[-1]),
+    )
 
 
 def binned(
-    q, C, modes, scatter, floor=0.0, lost_long=False, short_cause="", q_squared=None, q_squared_cumulants=None
+    q,
+    C,
+    modes,
+    scatter,
+    floor=0.0,
+    lost_long=False,
+    short_cause="",
+    q_squared=None,
+    q_squared_cumulants=None,
+    x0=None,
+    q_top=None,
 ) -> Binned:
-    """`C` (less `floor`, already) in log-log with its per-bin bias correction and weight."""
+    """`C` (less `floor`, already) in log-log with its per-bin bias correction and weight; ln q centred
+    on `x0` and the roll-off's coordinate on `q_top` (default: their own mean and last bin)."""
     # A bin's mean of `modes` periodogram values of relative variance `scatter` is Gamma-distributed
     # with shape k = modes / scatter: E ln(mean/C) = ψ(k) - ln k, var ln(mean) = ψ'(k).
     k = modes / scatter
     # The floor's subtraction leaves the bin's scatter: relative to what is left, it grows by (C+N)/C.
     variance = special.polygamma(1, k) * ((C + floor) / C) ** 2
     x = np.log(q)
+    x0 = float(x.mean()) if x0 is None else x0
+    q_top = float(q[-1]) if q_top is None else q_top
     return Binned(
-        x=x - x.mean(),
-        x0=float(x.mean()),
+        x=x - x0,
+        x0=x0,
         y=np.log(C) - (special.digamma(k) - np.log(k)),
         w=1.0 / (variance + SYSTEMATIC**2),
-        u=-(q * q if q_squared is None else q_squared) / q[-1] ** 2,
+        u=-(q * q if q_squared is None else q_squared) / q_top**2,
         z=np.zeros((q.size, ORDERS.size))
         if q_squared_cumulants is None
-        else q_squared_cumulants * (-1.0 / q[-1] ** 2) ** ORDERS / FACTORIALS,
+        else q_squared_cumulants * (-1.0 / q_top**2) ** ORDERS / FACTORIALS,
         q=q,
         floor=floor,
         lost_long=lost_long,
         short_cause=short_cause,
+        mean=C + floor,
+        shape=k,
     )
 
 
