@@ -207,6 +207,13 @@ def test_a_refusal_suggests_a_band_on_the_command_line(tmp_path, capsys):
     assert "--band " in capsys.readouterr().err
 
 
+@pytest.mark.skipif(not TOPOGRAPHIES.is_dir(), reason="the real instrument files live in ../shared/data")
+def test_the_suggested_band_typed_back_gives_a_result(tmp_path, capsys):
+    main(["surface", str(TOPOGRAPHIES / "hfm-1.hfm"), "--out", str(tmp_path)])
+    short, long = capsys.readouterr().err.split("--band ")[1].split()[:2]
+    assert main(["surface", str(TOPOGRAPHIES / "hfm-1.hfm"), "--band", short, long, "--out", str(tmp_path)]) == 0
+
+
 def test_disagreeing_methods_are_named_in_a_diagnostic():
     c = tp.characterise(make_map(1.5, "cut", 10, 0))
     other = dataclasses.replace(c, D=c.D + 0.3, stderr={"D": 0.01, "G": c.G})

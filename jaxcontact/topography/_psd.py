@@ -46,10 +46,17 @@ def _q_and_D(slopes):
     return q, D
 
 
+def _outward(value: float, up: bool) -> float:
+    """`value` to 3 significant digits, rounded away from the band's inside: a band typed back as
+    printed holds the same bins (rounded to nearest it could lose a bin at either end)."""
+    scale = 10.0 ** (math.floor(math.log10(value)) - 2)
+    return (math.ceil if up else math.floor)(value / scale) * scale
+
+
 def _suggestion(spectrum, suggested) -> str:
     if suggested is None:
         return "no stretch of the spectrum has the slope of a self-affine surface (1 < D < 2)"
-    short, long = suggested
+    short, long = _outward(suggested[0], up=False), _outward(suggested[1], up=True)
     return "the closest to a power law is " + spelled(
         f"band=({short:.3g}, {long:.3g})", f"--band {short:.3g} {long:.3g}"
     )
