@@ -264,6 +264,13 @@ def test_stitching_needs_two_measurements():
         tp.characterise_stitched([tp.areal_map(1.5, G_TRUE, SIZE, 256)])
 
 
+@pytest.mark.skipif(not TOPOGRAPHIES.is_dir(), reason="the real instrument files live in ../shared/data")
+def test_measurements_of_two_surfaces_are_refused_as_not_joining():
+    two = [tp.read(TOPOGRAPHIES / name) for name in ("dektak-1.csv", "opdx-3.opdx")]
+    with pytest.raises(ValueError, match="do not join into one power law with 1 < D < 2"):
+        tp.characterise_stitched(two)
+
+
 def test_surface_stitches_several_files(tmp_path, capsys):
     paths = []
     for name, topography in zip(("coarse.nc", "fine.nc"), two_resolutions(1.5, 0)):

@@ -65,6 +65,13 @@ def characterise_stitched(topographies) -> Characterisation:
     bounds = ([1.0 + 1e-6, -np.inf], [2.0 - 1e-6, np.inf])
     fit = optimize.least_squares(residuals, start, bounds=bounds, x_scale=[0.1, 1.0])
     D_hat, log_G_hat = fit.x
+    if not (bounds[0][0] + 1e-3 < D_hat < bounds[1][0] - 1e-3 and -700.0 < log_G_hat < 700.0):
+        alone = ", ".join(f"{s.D_of(law.slope):.3g}" for _, s, law in measured)
+        raise InputError(
+            f"the measurements do not join into one power law with 1 < D < 2: the joint fit runs to D = {D_hat:.4g} "
+            f"(alone they give D = {alone}); their height scales, lateral calibrations or the surfaces measured "
+            "differ: characterise them one by one"
+        )
     n = fit.fun.size
     chi2 = 2 * fit.cost
     covariance = np.linalg.inv(fit.jac.T @ fit.jac) * max(1.0, chi2 / (n - 2))
