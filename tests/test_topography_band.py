@@ -47,7 +47,7 @@ def make_profile(D, kind, amount, seed, points=100_000):
     return UniformLineScan(_artefact(heights, kind, amount, seed), SIZE, periodic=True)
 
 
-# (kind, amount, tolerance on D): ±0.03, and ±0.05 where 2 seeds of 60 miss that within their own
+# (kind, amount, tolerance on D): ±0.03, and ±0.05 where 3 seeds of 60 miss that within their own
 # intervals (docs/topography.md, "How well the band is found").
 MAP_CASES = [
     ("cut", 6, 0.03),
