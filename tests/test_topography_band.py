@@ -47,26 +47,26 @@ def make_profile(D, kind, amount, seed, points=100_000):
     return UniformLineScan(_artefact(heights, kind, amount, seed), SIZE, periodic=True)
 
 
-# (kind, amount, tolerance on D): ±0.03, and ±0.05 where 3 seeds of 60 miss that within their own
-# intervals (docs/topography.md, "How well the band is found").
+# (kind, amount): D within ±0.03 at seed 0. Of 60 seeds, three maps cut off at 16 spacings miss it, by
+# up to 0.031, inside their own intervals (docs/topography.md, "How well the band is found").
 MAP_CASES = [
-    ("cut", 6, 0.03),
-    ("cut", 10, 0.03),
-    ("cut", 16, 0.05),
-    ("blur", 1.0, 0.03),
-    ("blur", 2.5, 0.03),
-    ("blur", 4.0, 0.03),
-    ("noise", 0.01, 0.03),
-    ("noise", 0.05, 0.03),
-    ("noise", 0.10, 0.03),
+    ("cut", 6),
+    ("cut", 10),
+    ("cut", 16),
+    ("blur", 1.0),
+    ("blur", 2.5),
+    ("blur", 4.0),
+    ("noise", 0.01),
+    ("noise", 0.05),
+    ("noise", 0.10),
 ]
 
 
-@pytest.mark.parametrize("kind, amount, tolerance", MAP_CASES)
+@pytest.mark.parametrize("kind, amount", MAP_CASES)
 @pytest.mark.parametrize("D", [1.2, 1.5, 1.8])
-def test_D_of_a_map_with_an_instrument_artefact(kind, amount, tolerance, D):
+def test_D_of_a_map_with_an_instrument_artefact(kind, amount, D):
     # One seed per case here; the coverage tests below add 20 seeds per kind at D = 1.5.
-    assert abs(tp.characterise(make_map(D, kind, amount, 0)).D - D) < tolerance
+    assert abs(tp.characterise(make_map(D, kind, amount, 0)).D - D) < 0.03
 
 
 @pytest.mark.parametrize("kind, amount", [("cut", 10), ("blur", 2.5), ("noise", 0.05)])
