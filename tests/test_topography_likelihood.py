@@ -4,6 +4,7 @@ with a white floor fitted beside it (docs/topography.md, "How the fit works").""
 import numpy as np
 import pytest
 from scipy import optimize
+from SurfaceTopography import UniformLineScan
 from test_topography_band import make_profile
 
 from jaxcontact import topography as tp
@@ -62,3 +63,19 @@ def test_scoring_reaches_the_maximum_that_scipy_finds(prepared_profile):
     ).x
     theta = optimize.minimize(objective, theta, method="BFGS", options={"gtol": 1e-10}).x
     assert slope == pytest.approx(theta[1], abs=1e-5)
+
+
+def _profile_with_a_wave(amplitude):
+    """A D = 1.5 profile with a sinusoid of `amplitude` times its rms at its third-longest wavelength."""
+    heights = tp.random_profile(1.5, 1e-10, 1e-3, 100_000, seed=0).heights()
+    wave = np.sin(2 * np.pi * 3 * np.arange(heights.size) / heights.size)
+    return UniformLineScan(heights + amplitude * heights.std() * wave, 1e-3, periodic=True)
+
+
+def test_the_long_ends_few_mode_bins_join_a_band_that_reaches_them():
+    assert tp.characterise(_profile_with_a_wave(0.0)).ends[0].startswith("the measurement's longest wavelength")
+
+
+def test_a_wave_at_the_longest_wavelengths_keeps_them_out_of_the_fit():
+    # A form error or waviness there is in no window's tests: their own Pearson statistic refuses it.
+    assert tp.characterise(_profile_with_a_wave(3.0)).ends[0].startswith("fewer than 3 independent modes")

@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from ._binned import MIN_MODES, ORDERS, SYSTEMATIC, Binned, binned, prepare, rolloff_offset
-from ._likelihood import likelihood_fit
+from ._likelihood import likelihood_fit, long_end_joins
 from ._whole import Spectrum
 
 MIN_RATIO = 4.0
@@ -261,7 +261,7 @@ def select_band(
             if p.lost_long
             else "the measurement's longest wavelength"
         )
-        if p.long_end is not None:
+        if p.long_end is not None and long_end_joins(p, float(theta[0]), float(theta[1]), kappa):
             longest = float(p.long_end.q[0])
             long = f"the measurement's longest wavelength (bins of < {MIN_MODES} modes in the likelihood fit only)"
     return PowerLaw(

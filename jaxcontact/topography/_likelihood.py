@@ -8,8 +8,9 @@ neither the debiasing of ln C nor the scatter for its point estimate: its score
 debiased ln C depends on both: where a bin holds a few modes, the correction `ψ(k) - ln k` of a
 poorly known `k` biases it, which is why a band needs `MIN_MODES` per bin. The likelihood takes
 the bins of one or two modes beyond the long end as well (the measurement's longest wavelengths,
-which carry the lever arm of a profile's slope), and the floor enters as the part of `μ` it is,
-not as a subtraction.
+which carry the lever arm of a profile's slope; unless their own Pearson statistic says they depart
+from the law: no window's test sees them), and the floor enters as the part of `μ` it is, not as a
+subtraction.
 
 The weights are those of the least-squares fit, `1/(1/k + SYSTEMATIC²)`, the systematic floor
 included; the covariance is the inverse Fisher information scaled by Pearson's χ² per degree of
@@ -18,11 +19,14 @@ freedom where above 1, as for the least-squares fit.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from ._binned import ORDERS, SYSTEMATIC, Binned
+from ._binned import ORDERS, SYSTEMATIC, Binned, rolloff_offset
 
 MAX_STEPS = 30
+Z = 3.0
 TOLERANCE = 1e-10
 HALVINGS = 12
 
@@ -41,7 +45,21 @@ def _rows(p: Binned, i: int, j: int):
     return [np.concatenate(column) for column in zip(*parts)]
 
 
-def likelihood_fit(p: Binned, i: int, j: int, rolloff: bool, start: np.ndarray, slope: float | None = None):
+def long_end_joins(p: Binned, slope: float, intercept: float, kappa: float = 0.0) -> bool:
+    """Whether the long end's few-mode bins (which no window's tests see) agree with the law
+    `ln C = intercept + slope ln q` (with its roll-off κ): their Pearson statistic `Σ k (C/μ - 1)²`
+    within `Z` of its standard deviations of its mean (for a Gamma mean of shape `k`, `k (C/μ - 1)²`
+    has mean 1 and variance `2 + 6/k`)."""
+    e = p.long_end
+    log_power = intercept + slope * (e.x + p.x0) + kappa * e.u + rolloff_offset(kappa, e.z)
+    mu = np.exp(log_power) + p.floor
+    statistic = float(np.sum(e.shape * (e.mean / mu - 1.0) ** 2))
+    return statistic - e.shape.size <= Z * float(np.sqrt(np.sum(2.0 + 6.0 / e.shape)))
+
+
+def likelihood_fit(
+    p: Binned, i: int, j: int, rolloff: bool, start: np.ndarray, slope: float | None = None, long_end: bool = True
+):
     """Fisher scoring of the bins' Gamma likelihood over bins i..j, from `start`.
 
     **Arguments:** `p`, `i`, `j`, `rolloff` as `_band._fit`; `start` its least-squares coefficients
@@ -51,7 +69,8 @@ def likelihood_fit(p: Binned, i: int, j: int, rolloff: bool, start: np.ndarray, 
     **Returns:** `(coefficients, inverse information, χ², degrees of freedom)` in the layout of
     `start`, or None where the scoring does not converge to finite values.
     """
-    x, u, z, mean, shape = _rows(p, i, j)
+    with_long_end = long_end and i == 0 and p.long_end is not None
+    x, u, z, mean, shape = _rows(p if with_long_end else dataclasses.replace(p, long_end=None), i, j)
     weight = 1.0 / (1.0 / shape + SYSTEMATIC**2)
     offset_x = 0.0 if slope is None else p.x0
     # Over the bins beyond the floor's margin the floor is fitted with the power law (ln N last).
@@ -87,7 +106,15 @@ def likelihood_fit(p: Binned, i: int, j: int, rolloff: bool, start: np.ndarray, 
         return float(np.sum(weight * (np.log(mu) + mean / mu)))
 
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        return _score(start, jacobian, objective, weight, mean, layout, x.size)
+        result = _score(start, jacobian, objective, weight, mean, layout, x.size)
+    if result is None or not with_long_end:
+        return result
+    c = result[0]
+    fitted_slope = c[1] if slope is None else slope
+    intercept = c[0] - c[1] * p.x0 if slope is None else c[0]
+    if not long_end_joins(p, fitted_slope, intercept, c[layout - 1] if rolloff else 0.0):
+        return likelihood_fit(p, i, j, rolloff, start[:layout], slope, long_end=False)
+    return result
 
 
 def _score(start, jacobian, objective, weight, mean, layout: int, rows: int):
