@@ -87,7 +87,7 @@ def likelihood_fit(
         value = c[0] + (c[1] * x if slope is None else slope * (x + offset_x))
         if rolloff:
             kappa = c[-1]
-            value = value + kappa * u + np.sum(kappa ** ORDERS[None, :] * z, axis=-1)
+            value = value + kappa * u + rolloff_offset(kappa, z)
         return value
 
     def jacobian(c):
