@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from ._binned import MIN_MODES, ORDERS, SYSTEMATIC, Binned, binned, prepare, rolloff_offset
-from ._likelihood import likelihood_fit, long_end_joins
+from ._likelihood import likelihood_fit
 from ._whole import Spectrum
 
 MIN_RATIO = 4.0
@@ -178,8 +178,9 @@ def _fit(p: Binned, i: int, j: int, rolloff: bool, slope: float | None = None):
     chi2 = float(np.sum(w * (y - X @ c) ** 2))
     # The least-squares fit is the start of the likelihood's, which replaces it where it converges.
     refined = likelihood_fit(p, i, j, rolloff, c, slope)
+    long_end = False
     if refined is not None:
-        c, inverse, chi2, dof = refined
+        c, inverse, chi2, dof, long_end = refined
     to_physical = np.zeros((2, X.shape[1]))
     if slope is None:
         to_physical[0, 1] = 1.0
@@ -189,28 +190,28 @@ def _fit(p: Binned, i: int, j: int, rolloff: bool, slope: float | None = None):
         to_physical[1, 0] = 1.0
         theta = np.array([slope, c[0]])
     covariance = to_physical @ inverse @ to_physical.T * max(1.0, chi2 / dof) + np.diag([0.0, CALIBRATION**2])
-    return theta, covariance, (float(c[-1]) if rolloff else 0.0)
+    return theta, covariance, (float(c[-1]) if rolloff else 0.0), long_end
 
 
 def _with_systematics(p: Binned, i: int, j: int, rolloff: bool, slope):
     """`_fit` over bins i..j, its covariance with the band's systematic: the change when either end
     moves in by a factor 2."""
-    theta, covariance, kappa = _fit(p, i, j, rolloff, slope)
+    theta, covariance, kappa, long_end = _fit(p, i, j, rolloff, slope)
     shorter = int(np.searchsorted(p.x, p.x[j] - TRIM, side="right")) - 1
     longer = int(np.searchsorted(p.x, p.x[i] + TRIM, side="left"))
     for start, stop in ((i, shorter), (longer, j)):
         if stop - start >= 4:
             moved = _fit(p, start, stop, rolloff, slope)[0] - theta
             covariance = covariance + np.outer(moved, moved)
-    return theta, covariance, kappa
+    return theta, covariance, kappa, long_end
 
 
 def _tilted(p: Binned, straight, corrected) -> bool:
-    """Whether the straight fit (`((theta, covariance, kappa), (i, j), rolloff)`, as `corrected`) is a
+    """Whether the straight fit (`((theta, covariance, kappa, long_end), (i, j), rolloff)`, as `corrected`) is a
     line tilted by the corrected fit's roll-off, which its own tests cannot see where the roll-off and
     the slope are nearly collinear: inside the corrected window, lowered at its short end by more
     than `Z · SYSTEMATIC` in ln C, its slope off by more than the two's combined standard error."""
-    ((theta, covariance, _), (i, j), _), ((theta_c, covariance_c, kappa), (ci, cj), _) = straight, corrected
+    ((theta, covariance, *_), (i, j), _), ((theta_c, covariance_c, kappa, _), (ci, cj), _) = straight, corrected
     within = ci <= i and cj >= j and kappa * -p.u[j] > Z * SYSTEMATIC
     return within and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0])
 
@@ -244,7 +245,7 @@ def select_band(
     chosen = min(fits, key=lambda f: (f[0][1][0, 0], f[0][1][1, 1]))
     if fits[-1][2] and not chosen[2] and _tilted(p, chosen, fits[-1]):
         chosen = fits[-1]
-    (theta, covariance, kappa), (i, j), rolloff = chosen
+    (theta, covariance, kappa, long_end), (i, j), rolloff = chosen
     short = (
         p.short_cause
         if j == p.x.size - 1
@@ -261,7 +262,7 @@ def select_band(
             if p.lost_long
             else "the measurement's longest wavelength"
         )
-        if p.long_end is not None and long_end_joins(p, float(theta[0]), float(theta[1]), kappa):
+        if long_end:
             longest = float(p.long_end.q[0])
             long = f"the measurement's longest wavelength (bins of < {MIN_MODES} modes in the likelihood fit only)"
     return PowerLaw(
@@ -284,7 +285,7 @@ def fit_band(spectrum: Spectrum, band_q: tuple[float, float], slope: float | Non
     if inside.sum() < 4:
         return None
     p = binned(spectrum.q[inside], spectrum.C[inside], spectrum.modes[inside], spectrum.scatter[inside])
-    theta, covariance, _ = _fit(p, 0, p.x.size - 1, False, slope)
+    theta, covariance, *_ = _fit(p, 0, p.x.size - 1, False, slope)
     ends = ("set by the user", "set by the user")
     return PowerLaw(
         float(theta[0]), float(theta[1]), covariance, (float(p.q[0]), float(p.q[-1])), None, 0.0, ends, p.x.size

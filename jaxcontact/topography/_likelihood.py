@@ -45,7 +45,7 @@ def _rows(p: Binned, i: int, j: int):
     return [np.concatenate(column) for column in zip(*parts)]
 
 
-def long_end_joins(p: Binned, slope: float, intercept: float, kappa: float = 0.0) -> bool:
+def _long_end_joins(p: Binned, slope: float, intercept: float, kappa: float = 0.0) -> bool:
     """Whether the long end's few-mode bins (which no window's tests see) agree with the law
     `ln C = intercept + slope ln q` (with its roll-off κ): their Pearson statistic `Σ k (C/μ - 1)²`
     within `Z` of its standard deviations of its mean (for a Gamma mean of shape `k`, `k (C/μ - 1)²`
@@ -66,8 +66,9 @@ def likelihood_fit(
     (intercept at x = 0, then the slope unless `slope` is given, then κ where `rolloff`); `slope`,
     where D is held.
 
-    **Returns:** `(coefficients, inverse information, χ², degrees of freedom)` in the layout of
-    `start`, or None where the scoring does not converge to finite values.
+    **Returns:** `(coefficients, inverse information, χ², degrees of freedom, whether the long end's
+    few-mode bins are in)` in the layout of `start`, or None where the scoring does not converge to
+    finite values.
     """
     with_long_end = long_end and i == 0 and p.long_end is not None
     x, u, z, mean, shape = _rows(p if with_long_end else dataclasses.replace(p, long_end=None), i, j)
@@ -108,13 +109,13 @@ def likelihood_fit(
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         result = _score(start, jacobian, objective, weight, mean, layout, x.size)
     if result is None or not with_long_end:
-        return result
+        return None if result is None else (*result, False)
     c = result[0]
     fitted_slope = c[1] if slope is None else slope
     intercept = c[0] - c[1] * p.x0 if slope is None else c[0]
-    if not long_end_joins(p, fitted_slope, intercept, c[layout - 1] if rolloff else 0.0):
+    if not _long_end_joins(p, fitted_slope, intercept, c[layout - 1] if rolloff else 0.0):
         return likelihood_fit(p, i, j, rolloff, start[:layout], slope, long_end=False)
-    return result
+    return (*result, True)
 
 
 def _score(start, jacobian, objective, weight, mean, layout: int, rows: int):
