@@ -59,6 +59,32 @@ def masked_log_stiffness_sum(sol, weights=1.0):
     return jax.numpy.sum(jax.numpy.where(ok, weights * jax.numpy.log(jax.numpy.where(ok, sol.stiffness, 1.0)), 0.0))
 
 
+def _masked_log_stiffness(scene, loads, weights):
+    sol = jc.solve(scene, loads)
+    return masked_log_stiffness_sum(sol, weights), sol.status
+
+
+_log_stiffness_and_gradient = eqx.filter_jit(eqx.filter_value_and_grad(_masked_log_stiffness, has_aux=True))
+# Every call pads its loads to this many, so that the tests of several files that differentiate one
+# model's Σ w ln K with respect to a whole scene share one compiled program.
+GRADIENT_LOADS = 5
+
+
+def log_stiffness_and_gradient(scene, loads, weights=None):
+    """((Σ w ln K over the valid points, statuses), its gradient with respect to every leaf of
+    `scene`) at up to `GRADIENT_LOADS` loads (weights default 1; the statuses of `loads` alone)."""
+    loads = jax.numpy.asarray(loads, float)
+    weights = jax.numpy.ones_like(loads) if weights is None else jax.numpy.asarray(weights, float)
+    pad = GRADIENT_LOADS - loads.size
+    # Padding: good loads of weight zero. Leaves as float64 arrays: Python floats would be weakly
+    # typed and compile the program again.
+    loads = jax.numpy.concatenate([loads, jax.numpy.full(pad, 22.0)])
+    weights = jax.numpy.concatenate([weights, jax.numpy.zeros(pad)])
+    scene = jax.tree.map(lambda x: jax.numpy.asarray(x, float) if eqx.is_inexact_array_like(x) else x, scene)
+    (total, status), grad = _log_stiffness_and_gradient(scene, loads, weights)
+    return (total, status[: GRADIENT_LOADS - pad]), grad
+
+
 def params_of(scene):
     return jax.numpy.array([float(GETTERS[p](scene)) for p in PARAMS])
 
