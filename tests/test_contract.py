@@ -93,7 +93,10 @@ def test_vmap_over_parameters_equals_a_loop(name):
     scene = scene_of(name)
     Ds = jnp.array([1.3, 1.45, 1.6])
     batched = jax.vmap(lambda D: stiffness(eqx.tree_at(lambda s: s.surface.D, scene, D), jnp.asarray(LOADS)))(Ds)
-    looped = [stiffness(eqx.tree_at(lambda s: s.surface.D, scene, D), jnp.asarray(LOADS)) for D in Ds]
+    # D weakly typed, as a scene's own leaves are: the program `test_jit_of_solve_equals_solve` compiled.
+    looped = [
+        stiffness(eqx.tree_at(lambda s: s.surface.D, scene, jnp.asarray(float(D))), jnp.asarray(LOADS)) for D in Ds
+    ]
     np.testing.assert_allclose(np.asarray(batched), np.asarray(looped), rtol=1e-12)
 
 
