@@ -76,6 +76,7 @@ def log_stiffness_and_gradient(scene, loads, weights=None):
     loads = jax.numpy.asarray(loads, float)
     weights = jax.numpy.ones_like(loads) if weights is None else jax.numpy.asarray(weights, float)
     pad = GRADIENT_LOADS - loads.size
+    assert pad >= 0, f"{loads.size} loads: the shared program takes at most {GRADIENT_LOADS}"
     # Padding: good loads of weight zero. Leaves as float64 arrays: Python floats would be weakly
     # typed and compile the program again.
     loads = jax.numpy.concatenate([loads, jax.numpy.full(pad, 22.0)])
