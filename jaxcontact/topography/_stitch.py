@@ -86,8 +86,9 @@ def characterise_stitched(topographies) -> Characterisation:
             "their lateral calibrations or the surfaces measured differ; the intervals include the misfit",
         )
     dof = max(n - 2, 2)
-    shortest = min(2 * math.pi / law.band[1] for _, _, law in measured)
-    longest = max(2 * math.pi / law.band[0] for _, _, law in measured)
+    # The bins the joint fit uses (a band's long-end few-mode bins are in its own likelihood fit only).
+    shortest = min(2 * math.pi / q[-1] for _, q, _, _ in points)
+    longest = max(2 * math.pi / q[0] for _, q, _, _ in points)
     q_all = np.concatenate([q for _, q, _, _ in points])
     C_all = np.exp(np.concatenate([y for _, _, y, _ in points]))
     fit_q = np.geomspace(q_all.min(), q_all.max(), 50)
