@@ -19,8 +19,6 @@ freedom where above 1, as for the least-squares fit.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from ._binned import ORDERS, SYSTEMATIC, Binned, rolloff_offset
@@ -31,12 +29,12 @@ TOLERANCE = 1e-10
 HALVINGS = 12
 
 
-def _rows(p: Binned, i: int, j: int):
-    """x, u, z, mean, shape of bins i..j, with the long end's few-mode bins before them where i = 0,
-    and the bins beyond the floor's margin after them where j is the last."""
+def _rows(p: Binned, i: int, j: int, long_end: bool):
+    """x, u, z, mean, shape of bins i..j, with the long end's few-mode bins before them where
+    `long_end`, and the bins beyond the floor's margin after them where j is the last."""
     s = slice(i, j + 1)
     parts = [(p.x[s], p.u[s], p.z[s], p.mean[s], p.shape[s])]
-    if i == 0 and p.long_end is not None:
+    if long_end:
         e = p.long_end
         parts.insert(0, (e.x, e.u, e.z, e.mean, e.shape))
     if j == p.x.size - 1 and p.short_end is not None:
@@ -45,14 +43,11 @@ def _rows(p: Binned, i: int, j: int):
     return [np.concatenate(column) for column in zip(*parts)]
 
 
-def _long_end_joins(p: Binned, slope: float, intercept: float, kappa: float = 0.0) -> bool:
-    """Whether the long end's few-mode bins (which no window's tests see) agree with the law
-    `ln C = intercept + slope ln q` (with its roll-off κ): their Pearson statistic `Σ k (C/μ - 1)²`
-    within `Z` of its standard deviations of its mean (for a Gamma mean of shape `k`, `k (C/μ - 1)²`
-    has mean 1 and variance `2 + 6/k`)."""
-    e = p.long_end
-    log_power = intercept + slope * (e.x + p.x0) + kappa * e.u + rolloff_offset(kappa, e.z)
-    mu = np.exp(log_power) + p.floor
+def _long_end_joins(e: Binned, mu: np.ndarray) -> bool:
+    """Whether the long end's few-mode bins `e` (which no window's tests see) agree with the fitted
+    law's expectations `mu` there: their Pearson statistic `Σ k (C/μ - 1)²` within `Z` of its standard
+    deviations of its mean (for a Gamma mean of shape `k`, `k (C/μ - 1)²` has mean 1 and variance
+    `2 + 6/k`)."""
     statistic = float(np.sum(e.shape * (e.mean / mu - 1.0) ** 2))
     return statistic - e.shape.size <= Z * float(np.sqrt(np.sum(2.0 + 6.0 / e.shape)))
 
@@ -71,7 +66,7 @@ def likelihood_fit(
     finite values.
     """
     with_long_end = long_end and i == 0 and p.long_end is not None
-    x, u, z, mean, shape = _rows(p if with_long_end else dataclasses.replace(p, long_end=None), i, j)
+    x, u, z, mean, shape = _rows(p, i, j, with_long_end)
     weight = 1.0 / (1.0 / shape + SYSTEMATIC**2)
     offset_x = 0.0 if slope is None else p.x0
     # Over the bins beyond the floor's margin the floor is fitted with the power law (ln N last).
@@ -110,10 +105,9 @@ def likelihood_fit(
         result = _score(start, jacobian, objective, weight, mean, layout, x.size)
     if result is None or not with_long_end:
         return None if result is None else (*result, False)
-    c = result[0]
-    fitted_slope = c[1] if slope is None else slope
-    intercept = c[0] - c[1] * p.x0 if slope is None else c[0]
-    if not _long_end_joins(p, fitted_slope, intercept, c[layout - 1] if rolloff else 0.0):
+    # The long end's rows come first; the floor is nothing there beside the power law.
+    mu_long = np.exp(log_power_law(result[0])[: p.long_end.x.size]) + p.floor
+    if not _long_end_joins(p.long_end, mu_long):
         return likelihood_fit(p, i, j, rolloff, start[:layout], slope, long_end=False)
     return (*result, True)
 
