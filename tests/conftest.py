@@ -92,6 +92,7 @@ def dynamics_scene():
 @pytest.fixture(scope="session")
 def table1_without_interaction():
     """The Table 1 scene without interaction: for gradients through diffrax, whose reverse-mode
-    compile with the "paper" interaction inside costs a minute (the interaction's own gradients
-    are checked against finite differences in test_gradients.py)."""
+    compile with the "paper" interaction inside costs a minute, and for the fits and inference whose
+    subject is not the interaction (the interaction's own gradients are checked against finite
+    differences in test_gradients.py)."""
     return make_scene(**TABLE1, interaction="none")

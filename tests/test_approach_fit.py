@@ -84,8 +84,8 @@ START = dict(TRUTH, D=1.55, G=1e-9)
 
 
 @pytest.fixture(scope="module")
-def fit_curve():
-    scene = make_scene(**TRUTH)
+def fit_curve(table1_without_interaction):
+    scene = table1_without_interaction
     return scene, scipy_approach(scene, LOADS, float(LOADS[0]))
 
 

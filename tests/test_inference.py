@@ -16,15 +16,10 @@ from fitting._synthetic import TABLE1_F_STAR, synthetic_curve
 
 D_AND_G = fitting.resolve(("D", "G"))
 ROOT_DATA = ROOT / "data" / "table1_grinding_generated.csv"
-# Curves of Table 1 without interaction: what is checked is the inference, on curves of known truth,
-# and its programs compile in a third of the time.
+# Curves of Table 1 without interaction (conftest's `table1_without_interaction`): what is checked is
+# the inference, on curves of known truth, and its programs compile in a third of the time.
 TRUTH = dict(TABLE1, interaction="none")
 START = dict(TRUTH, D=1.55, G=1e-9)
-
-
-@pytest.fixture(scope="module")
-def table1():
-    return make_scene(**TRUTH)
 
 
 def _rank_one_information(direction, strength=1e6, floor=1e-6):
@@ -54,8 +49,8 @@ def test_the_report_names_the_fixed_combination_and_the_open_one():
 
 
 @pytest.fixture(scope="module")
-def profiled(table1):
-    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.01, seed=7)
+def profiled(table1_without_interaction):
+    loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR, noise=0.01, seed=7)
     return fitting.fit(loads, K, make_scene(**START), n_starts=8, profile=True)
 
 
@@ -103,26 +98,26 @@ def test_the_map_estimate_is_the_gaussian_linear_closed_form():
     assert np.allclose([p.stat_from_u(x) for p, x in zip(D_AND_G, found)], closed, rtol=0, atol=1e-7)
 
 
-def test_a_tight_prior_holds_D_and_the_curve_gives_G(table1):
-    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.05, seed=3)
+def test_a_tight_prior_holds_D_and_the_curve_gives_G(table1_without_interaction):
+    loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR, noise=0.05, seed=3)
     result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (TRUTH["D"], 1e-4)})
     assert result.values["D"] == pytest.approx(TRUTH["D"], abs=3e-4)
 
 
-def test_the_report_says_how_much_came_from_the_curve(table1):
-    loads, K = synthetic_curve(table1, TABLE1_F_STAR, noise=0.05, seed=3)
+def test_the_report_says_how_much_came_from_the_curve(table1_without_interaction):
+    loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR, noise=0.05, seed=3)
     wide = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (1.4, 0.5)})
     assert wide.information["D"]["curve_share"] > 0.99
 
 
-def test_joint_inference_covers_the_truth_over_seeds(table1):
+def test_joint_inference_covers_the_truth_over_seeds(table1_without_interaction):
     """Seed-model curves (5 % noise) with a surface prior drawn around the truth at its own covariance."""
     covariance = np.array([[0.02**2, 0.9 * 0.02 * 0.6], [0.9 * 0.02 * 0.6, 0.6**2]])
     truth = np.array([TRUTH["D"], math.log(TRUTH["G"])])
     rng = np.random.default_rng(11)
     covered = 0
     for seed in range(20):
-        loads, K = synthetic_curve(table1, TABLE1_F_STAR[::2], noise=0.05, seed=2000 + seed)
+        loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR[::2], noise=0.05, seed=2000 + seed)
         mean = rng.multivariate_normal(truth, covariance)
         prior = _Surface(mean[0], math.exp(mean[1]), covariance)
         result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior)
