@@ -61,7 +61,7 @@ def paper_correction(
     of scalar operations: under `vmap` a vector of regimes would become a short minor axis, and
     XLA on CPU does not vectorise a loop whose lanes read different coefficients (the pole
     series' 21 Horner steps). Row by row the run time is lower (most for long load arrays), for a
-    longer compile.
+    longer compile. (A row quadrature's remainder takes all rows in one call: no Horner loop there.)
     """
     d, r = density, ratio
     remainders = quadrature.pole_integrals(

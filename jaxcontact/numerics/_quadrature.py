@@ -58,7 +58,7 @@ class AbstractQuadrature(eqx.Module):
         self, power: Float[Array, " rows"], log_coeff, log_u_lower, log_u_upper
     ) -> list[Float[Array, ""]]:
         """`e^log_coeff ∫ u^power / (1 - u) du` from `u_lower` to `u_upper` (`u < 1`, `power ≥ 2`),
-        one scalar per row, each computed as its own chain of operations (`interaction_integral`)."""
+        one scalar per row (the power series computes each row as its own chain: `interaction_integral`)."""
 
 
 class PowerSeries(AbstractQuadrature):
@@ -109,10 +109,10 @@ class AbstractRowQuadrature(AbstractQuadrature):
 
         w_lower = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_lower, below_pole)))
         w_upper = -jnp.log1p(-jnp.exp(jnp.minimum(log_u_upper, below_pole)))
-        return [
-            self.integrate_rows(integrand, (log_coeff[i], power[i]), w_lower[i], w_upper[i])
-            for i in range(power.shape[0])
-        ]
+        # All rows in one call: the integrand has no Horner loop to vectorise row by row, and an
+        # adaptive rule's loop is then traced and compiled once, not once per regime.
+        values = self.integrate_rows(integrand, (log_coeff, power), w_lower, w_upper)
+        return [values[i] for i in range(power.shape[0])]
 
 
 class GaussLegendre(AbstractRowQuadrature):
