@@ -62,24 +62,27 @@ def _solver(scene, fitted, loads, log_stiffness, max_iter: int, tol: float):
         return 0.5 * jnp.mean(r * r)
 
     optimiser = optax.lbfgs()
-    value_and_grad = optax.value_and_grad_from_state(loss)
 
+    # The line search leaves the value and gradient at its accepted point in the state: the next
+    # step takes them from there. (`optax.value_and_grad_from_state` would do it by a `cond`, which
+    # under `vmap` computes the gradient again on every step.)
     def body(carry):
-        u, state, value, _, k = carry
-        new_value, grad = value_and_grad(u, state=state)
-        updates, state = optimiser.update(grad, state, u, value=new_value, grad=grad, value_fn=loss)
-        return optax.apply_updates(u, updates), state, new_value, value, k + 1
+        u, state, value, grad, _, k = carry
+        updates, state = optimiser.update(grad, state, u, value=value, grad=grad, value_fn=loss)
+        new_value = optax.tree_utils.tree_get(state, "value")
+        new_grad = optax.tree_utils.tree_get(state, "grad")
+        return optax.apply_updates(u, updates), state, new_value, new_grad, value, k + 1
 
     def going(carry):
-        _, state, value, previous, k = carry
-        grad = optax.tree_utils.tree_get(state, "grad")
+        _, _, value, grad, previous, k = carry
         small = (jnp.linalg.norm(grad) < tol) | (jnp.abs(previous - value) <= tol * jnp.abs(value))
         return (k < max_iter) & ~((k > 2) & small)
 
     def run(u0):
-        init = (u0, optimiser.init(u0), jnp.asarray(jnp.inf, u0.dtype), jnp.asarray(jnp.inf, u0.dtype), 0)
-        u, _, _, _, k = jax.lax.while_loop(going, body, init)
-        return u, loss(u), k
+        value, grad = jax.value_and_grad(loss)(u0)
+        init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
+        u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
+        return u, value, k
 
     return run
 
