@@ -6,6 +6,7 @@ Generic over the log density: `fitting._posterior` gives it the model's, the tes
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 
 import jax
@@ -45,7 +46,9 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
     initial = jnp.asarray(initial)
     t0 = time.perf_counter()
     adaptation = blackjax.window_adaptation(blackjax.nuts, logdensity)
-    (state, parameters), _ = adaptation.run(adapt_key, initial, num_steps=warmup)
+    # Compiled as one program: run eagerly, its set-up dispatches a hundred small ones.
+    adapt = jax.jit(lambda key, position: adaptation.run(key, position, num_steps=warmup)[0])
+    state, parameters = adapt(adapt_key, initial)
     jax.block_until_ready(state.position)
     t1 = time.perf_counter()
     kernel = blackjax.nuts(logdensity, **parameters)
@@ -68,11 +71,7 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
     jax.block_until_ready(positions)
     t3 = time.perf_counter()
     positions = np.swapaxes(np.asarray(positions), 0, 1)  # (chains, draws, dimension)
-    diagnostics = blackjax.diagnostics
-    ess = np.array([float(diagnostics.effective_sample_size(positions[..., k])) for k in range(positions.shape[-1])])
-    rhat = np.array(
-        [float(diagnostics.potential_scale_reduction(positions[..., k])) for k in range(positions.shape[-1])]
-    )
+    ess, rhat = (np.asarray(x, dtype=float) for x in _diagnostics(blackjax)(positions))
     return Chains(
         positions=positions,
         ess=ess,
@@ -83,3 +82,14 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
         compilation=t2 - t1,
         sampling=t3 - t2,
     )
+
+
+@functools.cache
+def _diagnostics(blackjax):
+    """`positions` (chains, draws, dimension) ↦ (ESS, R-hat) per dimension, as one compiled program."""
+
+    def both(positions):
+        d = blackjax.diagnostics
+        return d.effective_sample_size(positions), d.potential_scale_reduction(positions)
+
+    return jax.jit(jax.vmap(both, in_axes=-1))
