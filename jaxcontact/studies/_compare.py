@@ -80,13 +80,12 @@ class Comparison:
 
 def model_curves(scene, loads, models=COMPARED) -> dict:
     """Each model's K(F) on the scene's surface and material: label → (stiffness, status)."""
-    from ..core import Outputs, solve
+    from ..core import solve
 
     curves = {}
     for label, options in models.items():
-        solution = solve(
-            scene.with_model(**options), np.asarray(loads, dtype=float), outputs=Outputs(regime_shares=False)
-        )
+        # `solve`'s default outputs: each model's program is the one `solve` and `run` compile (and keep).
+        solution = solve(scene.with_model(**options), np.asarray(loads, dtype=float))
         curves[label] = (np.asarray(solution.stiffness), np.asarray(solution.status))
     return curves
 
