@@ -16,10 +16,14 @@ os.environ["JAXCONTACT_CACHE"] = ""
 # faster (4.2 -> 2.9 s, 4.9 -> 3.6 s; the same numbers to 3e-16), at ~10 % more run time. Level 0
 # is not used: together with the classic emitters, jaxlib 0.10.2 gives wrong numbers there (the
 # a_l solve's fallback loop, the E-derivative of K).
+# One LLVM code-generation part per program: the suite's two workers keep both cores busy, and
+# splitting a program for parallel code generation then costs CPU for no gain (the "paper"
+# gradient: 4.6 s of CPU in one part, 4.8 s in parts; the suite 4:52 -> 4:30).
 JAXLIB = tuple(int(x) for x in importlib.metadata.version("jaxlib").split(".")[:2])
+flags = [os.environ.get("XLA_FLAGS"), "--xla_cpu_parallel_codegen_split_count=1"]
 if JAXLIB >= (0, 10):
-    flags = [os.environ.get("XLA_FLAGS"), "--xla_cpu_use_fusion_emitters=false", "--xla_backend_optimization_level=1"]
-    os.environ["XLA_FLAGS"] = " ".join(filter(None, flags))
+    flags += ["--xla_cpu_use_fusion_emitters=false", "--xla_backend_optimization_level=1"]
+os.environ["XLA_FLAGS"] = " ".join(filter(None, flags))
 
 # Source locations in traced programs serve XLA's dumps and profiles, which the suite does not
 # read; recording each equation's traceback costs time (test_dynamics.py alone: 47.5 s with them,
