@@ -5,6 +5,10 @@ import importlib.metadata
 import os
 
 os.environ.setdefault("JAX_PLATFORMS", "cpu")
+# One OpenBLAS thread per worker: the two workers keep both cores busy, and OpenBLAS's threads
+# then wait on each other (the suite 4:30 -> 4:21). Read when numpy loads: the workers, started
+# after this file is loaded, inherit it.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # `main()` called in-process keeps no programs in the user's home (~/.cache/jaxcontact): every
 # run of the suite compiles what a clean machine compiles. Tests of the kept programs give them
 # a temporary directory of their own.
