@@ -48,8 +48,15 @@ jax.config.update(
 )
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.3)
 
+import gc  # noqa: E402
+
 import pytest  # noqa: E402
 from helpers import TABLE1, make_scene  # noqa: E402
+
+# Tracing the model's programs makes and drops millions of small objects: Python's collector, at its
+# default thresholds, walks the long-lived ones (modules, compiled programs) again and again.
+gc.freeze()
+gc.set_threshold(100_000, 50, 1000)
 
 # Whole files go to the two workers in this order, the longest (measured) first, so that the
 # workers finish together: xdist's own order (most tests first) left a few long files of few
