@@ -51,7 +51,7 @@ jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.3)
 import gc  # noqa: E402
 
 import pytest  # noqa: E402
-from helpers import TABLE1, make_scene  # noqa: E402
+from helpers import TABLE1, TABLE1_WITHOUT_INTERACTION, make_scene  # noqa: E402
 
 # Tracing the model's programs makes and drops millions of small objects: Python's collector, at its
 # default thresholds, walks the long-lived ones (modules, compiled programs) again and again.
@@ -110,4 +110,4 @@ def table1_without_interaction():
     compile with the "paper" interaction inside costs a minute, and for the fits and inference whose
     subject is not the interaction (the interaction's own gradients are checked against finite
     differences in test_gradients.py)."""
-    return make_scene(**TABLE1, interaction="none")
+    return make_scene(**TABLE1_WITHOUT_INTERACTION)

@@ -6,6 +6,8 @@ import jax
 import numpy as np
 import pytest
 from helpers import SEC51, TABLE1, make_scene, scipy_approach
+from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
+from helpers import WRONG_START as START
 
 import fitting
 import jaxcontact as jc
@@ -80,10 +82,8 @@ def test_quadrature_refuses_bad_nodes(table1_curve):
         jc.approach_quadrature(table1_curve[0], LOADS, 2.2, nodes=1)
 
 
-# The fits are of Table 1 without interaction: their programs compile in a third of the time, and
-# the fit of δ(F) is the same fit (the interaction's δ is checked against scipy above).
-TRUTH = dict(TABLE1, interaction="none")
-START = dict(TRUTH, D=1.55, G=1e-9)
+# The fits are of Table 1 without interaction (TRUTH): the fit of δ(F) is the same fit (the
+# interaction's δ is checked against scipy above).
 
 
 @pytest.fixture(scope="module")

@@ -3,14 +3,14 @@ each curve with `fitting.fit`."""
 
 import numpy as np
 import pytest
-from helpers import TABLE1, make_scene
+from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
+from helpers import WRONG_START as START
+from helpers import make_scene
 
 import fitting
 from fitting._synthetic import synthetic_curve
 
-# Without interaction: the batch program compiles in a quarter of the time, and the fit is the same fit.
-TRUTH = dict(TABLE1, interaction="none")
-START = dict(TRUTH, D=1.55, G=1e-9)
+# Without interaction (TRUTH): the batch program compiles in a quarter of the time, and the fit is the same fit.
 F_STAR = np.geomspace(1e-10, 1e-4, 20)
 
 

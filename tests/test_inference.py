@@ -5,7 +5,9 @@ import math
 
 import numpy as np
 import pytest
-from helpers import ROOT, TABLE1, make_scene
+from helpers import ROOT, make_scene
+from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
+from helpers import WRONG_START as START
 
 import fitting
 import jaxcontact as jc
@@ -16,10 +18,8 @@ from fitting._synthetic import TABLE1_F_STAR, synthetic_curve
 
 D_AND_G = fitting.resolve(("D", "G"))
 ROOT_DATA = ROOT / "data" / "table1_grinding_generated.csv"
-# Curves of Table 1 without interaction (conftest's `table1_without_interaction`): what is checked is
-# the inference, on curves of known truth, and its programs compile in a third of the time.
-TRUTH = dict(TABLE1, interaction="none")
-START = dict(TRUTH, D=1.55, G=1e-9)
+# The seed-model curves are Table 1's without interaction (TRUTH, conftest's `table1_without_interaction`):
+# what is checked is the inference, on curves of known truth.
 
 
 def _rank_one_information(direction, strength=1e6, floor=1e-6):

@@ -4,7 +4,8 @@ posterior is near-Gaussian, against the Laplace approximation."""
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from helpers import TABLE1, make_scene
+from helpers import TABLE1, WRONG_START, make_scene
+from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
 
 import fitting
 import jaxcontact as jc
@@ -45,16 +46,13 @@ def test_the_same_seed_gives_the_same_samples(gaussian_chains):
     assert np.array_equal(again.positions, gaussian_chains.positions)
 
 
-# Without interaction: the sampler compiles in a fraction of the time, and the posterior is as near-Gaussian.
-TRUTH = dict(TABLE1, interaction="none")
-
-
 @pytest.fixture(scope="module")
 def seed_model():
-    """A well-determined seed-model curve (Table 1, 12 loads over F* = 1e-10…1e-4, 5 % noise)."""
+    """A well-determined seed-model curve (Table 1 without interaction, 12 loads over F* = 1e-10…1e-4,
+    5 % noise): the sampler compiles in a fraction of the time, and the posterior is as near-Gaussian."""
     scene = make_scene(**TRUTH)
     loads, K = synthetic_curve(scene, np.geomspace(1e-10, 1e-4, 12), noise=0.05, seed=4)
-    start = make_scene(**dict(TRUTH, D=1.55, G=1e-9))
+    start = make_scene(**WRONG_START)
     posterior = fitting.sample(loads, K, start, chains=4, draws=250, warmup=200, seed=0, band_samples=40)
     return posterior, fitting.fit(loads, K, start, n_starts=4), loads, K
 
