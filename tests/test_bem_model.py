@@ -100,6 +100,14 @@ def test_a_bad_load_is_flagged_and_leaves_the_others_and_their_gradient(scene):
     assert np.all(np.isfinite(np.asarray(gradient)))
 
 
+def test_a_load_past_full_contact_leaves_the_others_gradient_finite(scene):
+    """The closed interface's singular system must not leak into D, G, l_min's derivatives."""
+    loads = jnp.asarray([LOADS[0], 1e3 * UNIT, LOADS[1]])
+    theta = jnp.array([SMALL["D"], math.log(SMALL["G"]), math.log(SMALL["l_min"])])
+    gradient = jax.jit(jax.grad(lambda t, F: _log_stiffness(scene, t, F)))(theta, loads)
+    assert np.all(np.isfinite(np.asarray(gradient)))
+
+
 def test_a_grid_too_coarse_for_l_min_is_flagged(scene):
     """l_min is a traced leaf: the module's compiled model flags it (2 grid spacings on 64²)."""
     coarse = eqx.tree_at(lambda s: s.surface.l_min, scene, jnp.asarray(L / 32))

@@ -14,7 +14,7 @@ import jax.numpy as jnp
 from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
-from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep_sides
+from ._contact import DEFAULT_TOLERANCE, GridProblem, check_iteration, stand_in_loads, sweep_sides
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights
@@ -35,7 +35,8 @@ class BEM(AbstractSweptModel):
       curve); 0 gives the exact tangent of the discretised contact, piecewise constant in D, G, l_min.
     - `rolloff`: the width, in modes, of the spectrum's cutoff at 2π/l_min (0: sharp, the reference's
       surfaces exactly, and results piecewise constant in l_min).
-    - `tolerance`, `max_iterations`: of the constrained conjugate gradients.
+    - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1): of the
+      constrained conjugate gradients (`bem.solve`).
 
     One regime, "e"; `Solution.real_area` is the mean contact area, `Solution.a_l` NaN. Each load is
     its own solve (two for the secant) per realisation, all loads of a call in one increasing sweep
@@ -63,6 +64,7 @@ class BEM(AbstractSweptModel):
             raise InputError(f"seed = {self.seed!r} must be an integer >= 0")
         check_range("relative_step", self.relative_step, 0.0, 0.5, low_open=False)
         check_range("rolloff", self.rolloff, 0.0, 64.0, low_open=False)
+        check_iteration(self.tolerance, self.max_iterations)
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
@@ -99,6 +101,8 @@ class BEM(AbstractSweptModel):
                 stiffness = secant_stiffness(loads, step, jnp.where(status == Status.OK, rise, 1.0))
             else:
                 stiffness = out["stiffness"][0] * problem.stiffness_unit
+            finite = jnp.isfinite(stiffness) & (stiffness > 0)
+            status = jnp.where((status == Status.OK) & ~finite, Status.NOT_CONVERGED, status)
             return stiffness, jnp.mean(out["contact_fraction"], axis=0), status
 
         def curve(F_star) -> PointResult:
