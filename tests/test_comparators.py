@@ -152,3 +152,32 @@ def test_sneddon_leaves_the_load_and_the_largest_spot_alone():
 def test_an_unknown_spot_stiffness_names_the_choices():
     with pytest.raises(ValueError, match="spot_stiffness = 'hertz' is not one of 'paper', 'sneddon'"):
         make_scene(**TABLE1, spot_stiffness="hertz")
+
+
+def persson_area_by_scipy(v, F):
+    """A_r/A_a = erf(w(q1) p/E) of docs/model.md §9, w(q1) by the power law's closed form (SI units)."""
+    C0 = areal_prefactor(v["D"], v["G"]) / (2 * math.pi) ** 2
+    q0, q1 = 2 * math.pi / math.sqrt(v["area"]), 2 * math.pi / v["l_min"]
+    e = 2 * v["D"] - 2
+    w1 = (math.pi * C0 * (q1**e - q0**e) / e) ** -0.5
+    return special.erf(w1 * F / v["area"] / v["E"])
+
+
+CLOSING_LOADS = np.geomspace(1e-3, 0.05, 12)
+
+
+def test_a_closed_persson_interface_is_flagged_and_an_open_one_is_not():
+    """A load at which Persson's own A_r/A_a (by scipy) reaches 0.99 is out of range; below, valid.
+    (GW's summits leave its range, the flat past the mean summit plane, at A_r/A_a of 0.3-0.5.)"""
+    v = BEM_SETTING
+    loads = CLOSING_LOADS * v["E"] * v["area"]
+    status = np.asarray(jc.solve(make_scene(**v, model="persson"), loads).status)
+    closed = np.array([persson_area_by_scipy(v, F) >= jc.models.CLOSED_INTERFACE for F in loads])
+    np.testing.assert_array_equal(status, np.where(closed, jc.Status.LOAD_OUT_OF_RANGE, jc.Status.OK))
+
+
+def test_the_closing_sweep_reaches_both_sides_of_the_threshold():
+    """The sweep above tests something: it holds open and closed interfaces."""
+    v = BEM_SETTING
+    fractions = [persson_area_by_scipy(v, F) for F in CLOSING_LOADS * v["E"] * v["area"]]
+    assert min(fractions) < 0.5 and max(fractions) >= jc.models.CLOSED_INTERFACE

@@ -15,6 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
+from ..models import CLOSED_INTERFACE
 from ..numerics._validate import InputError, assigned, check_choice, check_range, concrete
 from ..quantities import Status
 from ._ccg import contact_cg
@@ -23,7 +24,7 @@ from ._solver import secant_stiffness
 from ._tangent import frozen_solution
 
 # Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
-FULL_CONTACT = 0.99
+FULL_CONTACT = CLOSED_INTERFACE
 # The iteration stops when every gap condition holds to this fraction of the heights' rms.
 DEFAULT_TOLERANCE = {np.dtype(np.float64): 1e-9, np.dtype(np.float32): 1e-5}
 SMALLEST_GRID = 8

@@ -18,13 +18,14 @@ from collections.abc import Callable
 import equinox as eqx
 import numpy as np
 
+from ..models import CLOSED_INTERFACE
 from ..numerics._validate import InputError, check_choice, check_range, optional_import, spelled
 from ..quantities import Status
 from ._cache import ResultCache
 
 SUBSTRATES = ("periodic", "free")
 # Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
-FULL_CONTACT = 0.99
+FULL_CONTACT = CLOSED_INTERFACE
 
 
 class BEMSettings(eqx.Module):

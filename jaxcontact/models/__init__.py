@@ -3,6 +3,7 @@ largest-spot models, the seed model (`Xia2024`) and its comparators, and the reg
 objects. A new model is one file here plus one line in `_registry.py` (or `register_model`)."""
 
 from ._base import (
+    CLOSED_INTERFACE,
     AbstractContactModel,
     AbstractJoint,
     AbstractLargestSpotModel,
@@ -23,6 +24,7 @@ __all__ = [
     "AbstractJoint",
     "AbstractLargestSpotModel",
     "AbstractSweptModel",
+    "CLOSED_INTERFACE",
     "curve_solver",
     "AbstractLoadPieces",
     "build_model",

@@ -32,6 +32,9 @@ from ._load_pieces import AbstractLoadPieces
 # A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
 # the elastic comparators (GW, Persson), whose loads are flagged out of range there.
 LINEAR_ELASTIC_LIMIT = 1.0
+# A predicted real contact area of this share of the nominal one or more is a closed interface: no
+# finite stiffness is left to measure (every model and the boundary-element reference flag it).
+CLOSED_INTERFACE = 0.99
 
 
 class JointResponse(eqx.Module):

@@ -27,7 +27,7 @@ import jax.numpy as jnp
 from ..numerics import solve_increasing
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
-from ._base import LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
 
 # The separations solved for: above H_HIGHEST no load a float can hold is left; below H_LOWEST
 # the flat presses past the mean summit plane, where GW's independent summits do not apply (and
@@ -123,8 +123,8 @@ class GreenwoodWilliamson(AbstractContactModel):
             load = jnp.exp(log_load_scale + log_tail_moment(1.5, h))
             stiffness = jnp.exp(log_stiffness_scale + log_tail_moment(0.5, h))
             area = jnp.exp(log_area_scale + log_tail_moment(1.0, h))
-            # Summits whose contact areas add up to more than the nominal area: past full contact.
-            in_range = in_range & (area <= 1.0)
+            # Summits whose contact areas add up to (nearly) the nominal area: a closed interface.
+            in_range = in_range & (area < CLOSED_INTERFACE)
             status = jnp.select(
                 [~valid_scene, ~valid, ~in_range, ~converged],
                 [Status.INVALID_PARAMETERS, Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],

@@ -28,7 +28,7 @@ from jax.scipy.special import erf
 from ..numerics import check_range, integrate_log_area
 from ..physics._spectrum import log_areal_prefactor, log_band
 from ..quantities import Status
-from ._base import LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
 
 LOG_X_END = math.log(6.0)
 
@@ -82,6 +82,7 @@ class Persson(AbstractContactModel):
             integral = integrate_log_area(integrand, log_x1, jnp.full_like(log_x1, LOG_X_END), self.nodes)
             stiffness = 0.5 * math.sqrt(math.pi) / integral
             area = erf(jnp.exp(log_x1))
+            in_range = in_range & (area < CLOSED_INTERFACE)
             status = jnp.select([~valid, ~in_range], [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE], Status.OK).astype(
                 jnp.int32
             )
