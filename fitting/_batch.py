@@ -26,16 +26,18 @@ from jaxcontact.core import prepare
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
 from ._residuals import residuals_and_status
+from ._statistics import NOTHING_DETERMINED
 
 
 @dataclasses.dataclass(frozen=True)
 class BatchResult:
     """Per curve (leading axis of every array): `values`, `stderr`, `ci95` (dicts by name of arrays;
     `ci95[name]` has shape (curves, 2)), `correlation` (curves, p, p), `loss` (½ mean r²), `iterations`,
-    `success` (converged, finite, enough valid points), `flagged` (valid-point mask is its negation:
-    shape (curves, points)), `determined` (curves, p: whether each Fisher combination is determined),
-    `warnings` (a tuple of strings per curve), `wall_time` (s, compilation included) and `compile_time`
-    (0 where a batch of the same shape was compiled before in this process)."""
+    `success` (converged, finite, enough valid points, no parameter on a search bound, and some
+    combination of the parameters determined: a curve of pure noise is not a success), `flagged`
+    (valid-point mask is its negation: shape (curves, points)), `determined` (curves, p: whether each
+    Fisher combination is determined), `warnings` (a tuple of strings per curve), `wall_time` (s,
+    compilation included) and `compile_time` (0 where a batch of the same shape was compiled before in this process)."""
 
     params: tuple[str, ...]
     values: dict
@@ -108,7 +110,8 @@ def fit_batch(
     until its slowest lane ends, so one start that needs many steps holds its chunk, not the batch; on
     an accelerator a larger chunk fills it better).
 
-    **Returns:** a `BatchResult`.
+    **Returns:** a `BatchResult`. A curve with a load or stiffness that is not positive and finite is
+    not fitted (NaN values, `success` False, a warning naming the curve and the point); the others are.
     """
     from ._fit import starting_points
     from ._statistics import inner_bounds
@@ -121,9 +124,9 @@ def fit_batch(
         raise InputError(f"loads {loads.shape} and stiffness {stiffness.shape} differ in shape (curves, points)")
     if loads.shape[1] <= len(fitted):
         raise InputError(f"{loads.shape[1]} points per curve cannot determine {len(fitted)} parameters")
-    for name, values in (("loads", loads), ("stiffness", stiffness)):
-        if not np.all(np.isfinite(values) & (values > 0)):
-            raise InputError(f"{name} must be positive and finite (valid range (0, inf))")
+    bad = _bad_points(loads, stiffness)
+    if len(bad) == loads.shape[0]:
+        raise InputError(f"no curve can be fitted: {bad[0]} (valid range (0, inf))")
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
     traced, _ = prepare(scene, loads[0])
@@ -133,6 +136,11 @@ def fit_batch(
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
     leaves, treedef = jax.tree_util.tree_flatten(traced)
+    # A curve with a bad point is not fitted: a good curve stands in for it (one compiled shape), and
+    # its result is NaN with a warning that names the point.
+    good = next(c for c in range(loads.shape[0]) if c not in bad)
+    stand_in = np.array([good if c in bad else c for c in range(loads.shape[0])])
+    loads, stiffness = loads[stand_in], stiffness[stand_in]
     curves = loads.shape[0]
     size = min(chunk, curves)
     # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
@@ -149,7 +157,48 @@ def fit_batch(
             compile_time += time.perf_counter() - t1
         outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
     u, loss, k, r, ok, J = (np.concatenate(parts)[:curves] for parts in zip(*outputs))
-    return _statistics(fitted, u, loss, k, r, ok, J, max_iter, time.perf_counter() - t0, compile_time)
+    result = _statistics(fitted, u, loss, k, r, ok, J, max_iter, time.perf_counter() - t0, compile_time)
+    return _without(result, bad)
+
+
+def _bad_points(loads, stiffness) -> dict[int, str]:
+    """By curve, the first point whose load or stiffness is not positive and finite, described."""
+    bad = {}
+    for c in range(loads.shape[0]):
+        for name, values in (("loads", loads[c]), ("stiffness", stiffness[c])):
+            wrong = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+            if wrong.size and c not in bad:
+                i = int(wrong[0])
+                bad[c] = f"curve {c}, point {i}: {name} = {float(values[i])!r} is not positive and finite"
+    return bad
+
+
+def _without(result: BatchResult, bad: dict[int, str]) -> BatchResult:
+    """`result` with the curves in `bad` unfitted: NaN values and intervals, success False, the reason."""
+    if not bad:
+        return result
+    rows = list(bad)
+    values, stderr, ci95 = ({k: v.copy() for k, v in d.items()} for d in (result.values, result.stderr, result.ci95))
+    for d in (values, stderr, ci95):
+        for v in d.values():
+            v[rows] = np.nan
+    correlation, loss, success = result.correlation.copy(), result.loss.copy(), result.success.copy()
+    correlation[rows], loss[rows], success[rows] = np.nan, np.nan, False
+    flagged, determined = result.flagged.copy(), result.determined.copy()
+    flagged[rows], determined[rows] = True, False
+    warnings = tuple((f"{bad[c]}: the curve was not fitted",) if c in bad else w for c, w in enumerate(result.warnings))
+    return dataclasses.replace(
+        result,
+        values=values,
+        stderr=stderr,
+        ci95=ci95,
+        correlation=correlation,
+        loss=loss,
+        success=success,
+        flagged=flagged,
+        determined=determined,
+        warnings=warnings,
+    )
 
 
 # Compiled batch programs, by scene structure, fitted parameters, settings and argument shapes: a
@@ -191,6 +240,7 @@ def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time)
     ci95 = {q.name: np.full((curves, 2), np.nan) for q in fitted}
     correlation = np.full((curves, p, p), np.nan)
     determined = np.zeros((curves, p), bool)
+    unusable = np.zeros(curves, bool)
     warnings = []
     for c in range(curves):
         used = ok[c]
@@ -216,13 +266,17 @@ def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time)
                     ci95[q.name][c] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
                 found = combinations(fitted, JTJ / s2)
                 determined[c] = [f.determined for f in found]
-                if not all(determined[c]):
+                if not any(determined[c]):
+                    notes.append(NOTHING_DETERMINED)
+                    unusable[c] = True
+                elif not all(determined[c]):
                     notes.append("the curve leaves a combination of the parameters open (see `determined`)")
-        for i, q in enumerate(fitted):
-            if abs(u[c, i]) > 12:
-                notes.append(f"{q.name} = {values[q.name][c]:.4g} is at the edge of its bounds")
+        step = np.linalg.lstsq(J[c][used], -r[c][used], rcond=None)[0] if n else np.zeros(p)
+        bounds = [q.bound_reached(stat[c, i], float(step[i])) for i, q in enumerate(fitted)]
+        unusable[c] |= any(bounds)
+        notes += [b for b in bounds if b]
         warnings.append(tuple(notes))
-    success = (k < max_iter) & np.isfinite(loss) & (ok.sum(axis=1) > p)
+    success = (k < max_iter) & np.isfinite(loss) & (ok.sum(axis=1) > p) & ~unusable
     return BatchResult(
         params=tuple(q.name for q in fitted),
         values=values,

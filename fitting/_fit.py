@@ -27,7 +27,7 @@ from jaxcontact.core import prepare
 
 from ._identifiability import profiles_of
 from ._observed import POINTS_MULTIPLE, observations
-from ._optimise import RUNNERS, Objective
+from ._optimise import RUNNERS, Objective, stalled
 from ._parameters import FitParameter, resolve, with_stat
 from ._prior import PriorObjective, noise_scale, resolve_prior, with_prior
 from ._residuals import evaluated
@@ -173,15 +173,21 @@ def fit(
     best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.inf)))
     converged = outcomes[best].converged
     stat_hat = np.array([p.stat_from_u(x) for p, x in zip(fitted, u_all[best])])
-    result = statistics(traced_scene, fitted, loads, data, stat_hat, np.asarray(u_all[best]))
+    result = statistics(traced_scene, fitted, loads, data, stat_hat)
     information = {}
     if gaussian is not None:
         result, information = with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
     profiles = {}
     if profile:
         profiles = profiles_of(result, fitted, traced_scene, data, loads.size, stat_hat, replace=gaussian is None)
-    success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted)
-    warnings = list(result["warnings"]) + rival_optima(fitted, u_all, best, result, traced_scene, data)
+    success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted) and result["usable"]
+    warnings = list(result["warnings"]) + rival_optima(
+        fitted, u_all, best, result, losses, objective.n_points, result["s2"] / (1.0 if gaussian is None else sigma**2)
+    )
+    stall = stalled(objective, float(losses[best]), len(fitted))
+    if stall:
+        warnings.insert(0, stall)
+        success = False
     if not converged:
         # Not only the cap: a line search can also end where the tolerance is not met.
         warnings.insert(

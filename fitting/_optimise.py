@@ -55,6 +55,7 @@ class Objective:
         self.n_points = int(data.measured[:rows].sum())
         self.settle = 0.0 if scene.model.precision == 0 else SETTLED_STEPPED
         self._last = None
+        self.lowest = (math.inf, None)
 
     def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
         u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
@@ -64,11 +65,36 @@ class Objective:
         e = evaluated(np.asarray(stat, self.dtype), self.scene, self.params, self.data, self.rows)
         r, J = e.r.astype(float), e.J.astype(float) * np.asarray(slope)
         self._last = (u, (r, J))
+        remember(self, u, r)
         return r, J
 
     def loss(self, u) -> float:
         r = self(u)[0]
         return 0.5 * float(r @ r) / self.n_points
+
+
+def remember(objective, u, r) -> None:
+    """Keep `objective.lowest`, the lowest loss (½ mean r²) it was evaluated at and where: a fit that
+    ends above it has stalled (`stalled`)."""
+    loss = 0.5 * float(r @ r) / objective.n_points
+    if math.isfinite(loss) and loss < objective.lowest[0]:
+        objective.lowest = (loss, np.array(u, dtype=float))
+
+
+def stalled(objective, loss: float, p: int) -> str | None:
+    """A warning when the fit ended at `loss` although the optimiser evaluated a point lower by more
+    than one unit of χ² (in the best loss's own s² = Σr²/(N − p)), else None."""
+    lowest, u = objective.lowest
+    n = objective.n_points
+    rss, rss_lowest = 2.0 * n * loss, 2.0 * n * lowest
+    s2 = rss / max(n - p, 1)
+    if u is None or not (s2 > 0 and (rss - rss_lowest) / s2 > 1.0):
+        return None
+    where = ", ".join(f"{q.name} = {float(q.from_stat(q.stat_from_u(x))):.4g}" for q, x in zip(objective.params, u))
+    return (
+        f"the optimiser stalled: it evaluated {where}, which fits better (Δχ² = {(rss - rss_lowest) / s2:.3g}) "
+        "than where it ended"
+    )
 
 
 def run_lm(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:

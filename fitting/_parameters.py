@@ -20,6 +20,10 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact import InputError
 
+# An optimum within the first share of a parameter's search range from one of its ends, or within the
+# second with a Gauss–Newton step that leaves the range there, is on the bound: not a success.
+ON_BOUND = (1e-3, 1e-2)
+
 
 @dataclasses.dataclass(frozen=True)
 class FitParameter:
@@ -59,6 +63,23 @@ class FitParameter:
 
     def stat_from_u(self, u: float) -> float:
         return self.stat_and_slope_from_u(u)[0]
+
+    def bound_reached(self, s: float, step: float) -> str | None:
+        """A warning when the statistical coordinate `s` sits on a search bound, else None: within
+        `ON_BOUND[0]` of the range from one end, or within `ON_BOUND[1]` with the Gauss–Newton step
+        `step` from there leaving the range through it (the optimiser's coordinate flattens at the
+        bound, so that it stops short of an optimum beyond). The interval and the fit's success mean
+        nothing there."""
+        lo, hi = self.stat_bounds
+        tight, margin = (share * (hi - lo) for share in ON_BOUND)
+        if s - lo < tight or (s - lo < margin and s + step <= lo):
+            side, bound = "lower", self.low
+        elif hi - s < tight or (hi - s < margin and s + step >= hi):
+            side, bound = "upper", self.high
+        else:
+            return None
+        value = float(self.from_stat(s))
+        return f"{self.name} = {value:.4g} is on its {side} search bound {bound:g}: the optimum lies at or beyond it"
 
     def u_from_stat(self, s):
         lo, hi = self.stat_bounds

@@ -17,7 +17,7 @@ import numpy as np
 
 from jaxcontact import InputError
 
-from ._optimise import Objective, run_lm
+from ._optimise import Objective, remember, run_lm
 from ._residuals import evaluated
 from ._spectral_prior import decorrelated, spectral_coordinates, spectral_jacobian
 
@@ -144,6 +144,7 @@ class PriorObjective:
         self.base, self.params, self.n_points = base, base.params, base.n_points
         self.settle = getattr(base, "settle", 0.0)
         self.prior, self.sigma, self._root = prior, sigma, prior.root
+        self.lowest = (math.inf, None)
 
     def __call__(self, u):
         r, J = self.base(u)
@@ -153,7 +154,9 @@ class PriorObjective:
         r_prior = self._root @ (value - self.prior.mean)
         J_prior = np.zeros((len(index), len(self.params)))
         J_prior[:, index] = self._root @ jacobian * np.asarray(slope)[index]
-        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior])
+        r_all = np.concatenate([r / self.sigma, r_prior])
+        remember(self, u, r_all)
+        return r_all, np.vstack([J / self.sigma, J_prior])
 
     def loss(self, u) -> float:
         r = self(u)[0]

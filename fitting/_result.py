@@ -22,7 +22,9 @@ class FitResult:
     never leaves its domain (D's stays in (1, 2));
     `residuals` (ln K_model − ln K_data at the optimum, NaN at flagged points; with an approach
     curve, δ_model − δ_data in m, and with both a column each: (load, [stiffness, approach])); `flagged`
-    (indices of data points outside the model at the optimum); `success`; `iterations` (of the
+    (indices of data points outside the model at the optimum); `success` (the optimiser converged, not
+    on a parameter's search bound, not stalled above a point it evaluated, and the curve determines
+    some combination of the parameters; the warnings say which failed); `iterations` (of the
     best start); `wall_time` (s, compilation included); `warnings`; `condition_number` (of the
     scaled Gauss–Newton matrix); `start_losses`; `scene` (the fitted scene); `identifiability`
     (the combinations of parameters the curve determines, best first, each a
@@ -59,7 +61,7 @@ class FitResult:
 
     def summary(self) -> str:
         lines = [
-            f"fit by {self.method}: {'converged' if self.success else 'NOT converged'} in {self.iterations} "
+            f"fit by {self.method}: {'converged' if self.success else 'NOT a success'} in {self.iterations} "
             f"iterations, {self.wall_time:.2f} s; {_RMS_LABEL.get(self.observables, 'rms weighted residual')} "
             f"{math.sqrt(2 * self.loss):.3g}"
         ]

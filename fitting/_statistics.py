@@ -18,30 +18,32 @@ from ._identifiability import combinations, report
 from ._parameters import FitParameter
 from ._residuals import evaluated
 
+# A curve that fixes no combination of the parameters has measured none of them (e.g. pure noise):
+# its optimum is wherever the noise put it, and the fit is not a success.
+NOTHING_DETERMINED = "the curve determines no combination of the fitted parameters: the fit measured nothing"
+
 # Optima closer than this fraction of every parameter's search range (statistical coordinates) are one.
 _SAME_OPTIMUM = 1e-4
 
 
-def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
+def rival_optima(params, u_all, best, result, losses, n_points: int, s2: float) -> list[str]:
     """Warn when another start ended at a clearly distinct optimum that fits almost as well.
 
     A local Gauss–Newton interval cannot describe a bimodal misfit; this model has such cases
     (e.g. a second (D, G) with a_c near the cutoff when the curve stays above F* ≈ 1e-9).
     Distinct: Mahalanobis distance > 5 under the covariance, and apart by more than `_SAME_OPTIMUM`
-    of a search range; almost as well: Δχ² < 9, both misfits summed over the points valid at the
-    best optimum (the constant residuals of flagged points are no measure of fit).
+    of a search range; almost as well: Δχ² < 9 in the loss the starts were ranked by (`losses`,
+    each start's final ½ mean r² over `n_points`, flagged points and a prior's terms included), so
+    that the best start is the best by the same measure (Δχ² ≥ 0), in units of `s2`, the scatter of
+    the objective's residuals at the points valid at the best optimum (the constant residuals of
+    flagged points are no measure of scatter).
     """
     covariance = result["covariance"]
     if not np.all(np.isfinite(covariance)):
         return []
-    used, rows = result["used"], result["residuals"].shape[0]
-
-    def rss_at(stat):
-        return float(np.sum(evaluated(stat, scene, params, data, rows).r[used] ** 2))
-
     stats_all = np.array([[p.stat_from_u(x) for p, x in zip(params, u)] for u in u_all])
-    rss_best = result["rss"]
-    s2 = rss_best / max(result["n_used"] - len(params), 1)
+    n = max(n_points, 1)  # ½ mean r² → Σr²
+    rss_best = 2.0 * n * float(losses[best])
     precision = np.linalg.pinv(covariance)
     ranges = np.ptp(np.array([p.stat_bounds for p in params]), axis=1)
     rivals = []
@@ -53,7 +55,7 @@ def rival_optima(params, u_all, best, result, scene, data) -> list[str]:
         # that met at the same optimum "distinct" by Mahalanobis distance alone.
         if not np.any(np.abs(delta) > _SAME_OPTIMUM * ranges):
             continue
-        rss = rss_at(stats_all[k])
+        rss = 2.0 * n * float(losses[k])
         # An exact fit (s2 = 0) makes any worse minimum infinitely worse, and another exact one equal.
         chi2 = (rss - rss_best) / s2 if s2 > 0 else (0.0 if rss <= rss_best else math.inf)
         if chi2 < 9.0:
@@ -74,7 +76,7 @@ def inner_bounds(p: FitParameter):
     return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
 
 
-def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
+def statistics(scene, params, loads, data, stat_hat) -> dict:
     """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
 
     `loads` is the curve as given; `data` the padded `Observations`, whose padding is cut off here.
@@ -119,20 +121,26 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
             )
     else:
         warnings.append(f"{n} usable points for {p} parameters: no uncertainty can be estimated")
+    step = np.linalg.lstsq(J, -r_used, rcond=None)[0] if n else np.zeros(p)
     t = special.stdtrit(dof, 0.975) if dof > 0 else math.nan  # Student-t quantile (scipy.stats costs 1 s to import)
-    values, stderr, ci95 = {}, {}, {}
+    values, stderr, ci95, bounds = {}, {}, {}, []
     for i, q in enumerate(params):
         s, se = float(stat_hat[i]), math.sqrt(covariance[i, i]) if np.isfinite(covariance[i, i]) else math.nan
         values[q.name] = float(q.from_stat(s))
         stderr[q.name] = values[q.name] * se if q.log else se
-        lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
+        with np.errstate(over="ignore"):
+            lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
         # A linear coordinate's interval stays inside the parameter's domain (D in (1, 2)).
         ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
-        if abs(u_hat[i]) > 12:
-            warnings.append(f"{q.name} = {values[q.name]:.4g} is at the edge of its bounds [{q.low:g}, {q.high:g}]")
+        on_bound = q.bound_reached(s, float(step[i]))
+        if on_bound:
+            bounds.append(on_bound)
+    warnings += bounds
     found = combinations(params, information) if np.all(np.isfinite(information)) else ()
     if any(not c.determined for c in found):
         warnings.append(report(params, found))
+    if found and not any(c.determined for c in found):
+        warnings.append(NOTHING_DETERMINED)
     if condition > 1e8:
         warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
     misfit = _misfit(loads, data, e)
@@ -156,6 +164,7 @@ def statistics(scene, params, loads, data, stat_hat, u_hat) -> dict:
         residuals=residuals,
         n_used=n,
         describes_data=not misfit,
+        usable=not bounds and not (found and not any(c.determined for c in found)),
         identifiability=found,
         s2=s2,
         used=e.used,

@@ -62,9 +62,44 @@ def test_the_intervals_cover_the_truth_in_most_curves(batch):
     [
         (dict(loads=np.ones((2, 3)), stiffness=np.ones((3, 3))), r"loads \(2, 3\) and stiffness \(3, 3\) differ"),
         (dict(loads=np.ones((2, 2)), stiffness=np.ones((2, 2))), "2 points per curve cannot determine 2"),
-        (dict(loads=-np.ones((2, 5)), stiffness=np.ones((2, 5))), "loads must be positive"),
+        (
+            dict(loads=-np.ones((2, 5)), stiffness=np.ones((2, 5))),
+            r"no curve can be fitted: curve 0, point 0: loads = -1.0 is not positive",
+        ),
     ],
 )
 def test_bad_batches_are_refused_by_name(kw, message):
     with pytest.raises(ValueError, match=message):
         fitting.fit_batch(kw["loads"], kw["stiffness"], make_scene(**START))
+
+
+@pytest.fixture(scope="module")
+def mixed(curves, batch):
+    """The batch's curves (the same shape: nothing compiled) with curve 2 replaced by pure noise, and a
+    negative stiffness at point 7 of curve 4."""
+    loads, K = curves[0].copy(), curves[1].copy()
+    K[2] = 10 ** np.random.default_rng(5).uniform(8, 11, K.shape[1])
+    K[4, 7] = -1.0
+    return fitting.fit_batch(loads, K, make_scene(**START), n_starts=4)
+
+
+def test_a_pure_noise_curve_among_good_ones_is_not_a_success(mixed):
+    assert not mixed.success[2]
+
+
+def test_a_pure_noise_curve_is_said_to_have_measured_nothing(mixed):
+    assert any("determines no combination" in w for w in mixed.warnings[2])
+
+
+def test_a_curve_with_a_bad_point_is_not_a_success(mixed):
+    assert not mixed.success[4]
+
+
+def test_the_bad_points_warning_names_its_curve_and_point(mixed):
+    expected = "curve 4, point 7: stiffness = -1.0 is not positive and finite: the curve was not fitted"
+    assert mixed.warnings[4] == (expected,)
+
+
+def test_the_good_curves_beside_bad_ones_are_fitted_as_alone(mixed, batch):
+    good = [0, 1, 3, 5]
+    np.testing.assert_allclose(mixed.values["D"][good], batch.values["D"][good], rtol=1e-12)

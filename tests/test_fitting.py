@@ -1,11 +1,12 @@
 """Inverse fitting: recovery, honest intervals (coverage), multi-start agreement, flagged data."""
 
 import json
+import math
 
 import jax
 import numpy as np
 import pytest
-from helpers import ROOT, TABLE1, make_scene
+from helpers import ROOT, TABLE1, WRONG_START, make_scene
 
 import fitting
 import jaxcontact as jc
@@ -422,3 +423,59 @@ def test_a_settled_fit_is_converged():
 
     objective = _Linear(1e-2)
     assert run_bfgs(objective, objective.away(1e4), 400, 1e-15).converged
+
+
+@pytest.fixture(scope="module")
+def beyond_the_bound(table1):
+    """K ∝ F^1.5 over five decades of load: steeper than any D < 2 gives; the optimum is on D's bound."""
+    loads = np.geomspace(1e-9, 1e-4, 12) * TABLE1["E"] * TABLE1["area"]
+    K = 1e9 * (loads / loads[0]) ** 1.5 * np.exp(0.01 * np.random.default_rng(0).normal(size=12))
+    return fitting.fit(loads, K, make_scene(**WRONG_START))
+
+
+def test_a_fit_on_a_search_bound_is_not_a_success(beyond_the_bound):
+    assert not beyond_the_bound.success
+
+
+def test_a_fit_on_a_search_bound_names_the_bound(beyond_the_bound):
+    assert any("D = 2 is on its upper search bound 2" in w for w in beyond_the_bound.warnings)
+
+
+@pytest.fixture(scope="module")
+def random_stiffness(table1):
+    """Twelve stiffness values drawn at random over three decades: a curve of pure noise."""
+    loads = np.geomspace(1e-9, 1e-4, 12) * TABLE1["E"] * TABLE1["area"]
+    return fitting.fit(loads, 10 ** np.random.default_rng(0).uniform(8, 11, 12), make_scene(**WRONG_START))
+
+
+def test_a_fit_to_pure_noise_is_not_a_success(random_stiffness):
+    assert not random_stiffness.success
+
+
+def test_a_fit_to_pure_noise_says_it_measured_nothing(random_stiffness):
+    assert any("determines no combination" in w for w in random_stiffness.warnings)
+
+
+def _evaluated_linear():
+    """`_Linear` as the fit sees D and G, with its optimum evaluated (remembered as the lowest point)."""
+    from fitting._optimise import remember
+    from fitting._parameters import resolve
+
+    objective = _Linear(0.0)
+    objective.params, objective.lowest = resolve(("D", "G")), (math.inf, None)
+    remember(objective, objective.best, objective(objective.best)[0])
+    return objective
+
+
+def test_a_fit_that_ends_above_a_point_it_evaluated_has_stalled():
+    from fitting._optimise import stalled
+
+    objective = _evaluated_linear()
+    assert "stalled" in stalled(objective, objective.loss(objective.away(4.0)), 2)
+
+
+def test_a_fit_within_one_chi2_of_the_lowest_point_it_evaluated_has_not_stalled():
+    from fitting._optimise import stalled
+
+    objective = _evaluated_linear()
+    assert stalled(objective, objective.loss(objective.away(0.5)), 2) is None
