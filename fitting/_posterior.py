@@ -30,6 +30,11 @@ from ._residuals import residuals_and_status
 from ._spectral_prior import spectral_coordinates
 from ._statistics import inner_bounds
 
+# Above this share of the draws divergent, NUTS has not explored the posterior (a funnel, a kink):
+# the samples are not to be trusted. R-hat above MAX_RHAT: the chains disagree (Vehtari et al. 2021).
+MAX_DIVERGENT_SHARE = 0.01
+MAX_RHAT = 1.01
+
 
 @dataclasses.dataclass(frozen=True)
 class Posterior:
@@ -39,7 +44,11 @@ class Posterior:
     `ci95` (2.5 and 97.5 % quantiles) by name; `ess` and `rhat` by name; `acceptance`; `divergences`;
     `sigma` (the noise in ln K held fixed); `band` (loads, and the 2.5, 50 and 97.5 % quantiles of the
     predicted K over the samples); `times` (s: `start`, the least-squares start; `adaptation`, with its
-    compilation; the sampler's `compilation`; `sampling`, the compiled run).
+    compilation; the sampler's `compilation`; `sampling`, the compiled run); `describes_data` (the
+    least-squares fit's verdict: where False, the posterior is that of a model the data reject, and
+    is shown only with that caveat); `success` (the model describes the data, divergent transitions
+    are at most `MAX_DIVERGENT_SHARE` of the draws, and every R-hat is at most `MAX_RHAT`);
+    `warnings` (why not).
     """
 
     params: tuple[str, ...]
@@ -54,6 +63,9 @@ class Posterior:
     sigma: float
     band: tuple
     times: dict
+    describes_data: bool = True
+    success: bool = True
+    warnings: tuple[str, ...] = ()
 
     def summary(self) -> str:
         lines = [
@@ -62,12 +74,14 @@ class Posterior:
             f"{self.divergences} divergent; σ(ln K) = {self.sigma:.3g}; sampling {self.times['sampling']:.1f} s "
             f"(compiling it {self.times['compilation']:.1f} s, adaptation {self.times['adaptation']:.1f} s)"
         ]
+        caveat = "" if self.describes_data else "   (of a model that does not describe the data)"
         for name in self.params:
             lo, hi = self.ci95[name]
             lines.append(
                 f"  {name:6s} mean {self.mean[name]:.6g} sd {self.sd[name]:.3g}   95 % [{lo:.6g}, {hi:.6g}]   "
-                f"ESS {self.ess[name]:.0f}, R-hat {self.rhat[name]:.3f}"
+                f"ESS {self.ess[name]:.0f}, R-hat {self.rhat[name]:.3f}{caveat}"
             )
+        lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -83,6 +97,9 @@ class Posterior:
             "sigma": self.sigma,
             "band": {k: np.asarray(v).tolist() for k, v in zip(("load_N", "lower", "median", "upper"), self.band)},
             "times_s": self.times,
+            "describes_data": self.describes_data,
+            "success": self.success,
+            "warnings": list(self.warnings),
         }
 
 
@@ -128,7 +145,9 @@ def sample(
     `chains`, `draws` (per chain), `warmup` (adaptation steps), `seed`, `band_samples` (samples, evenly
     thinned, through which the predicted K band is drawn).
 
-    **Returns:** a `Posterior`. The chains start at the least-squares (or MAP) estimate of `fitting.fit`.
+    **Returns:** a `Posterior`. The chains start at the least-squares (or MAP) estimate of `fitting.fit`;
+    `Posterior.success` is False, with a warning, for a model the data reject, for divergent draws
+    above 1 % and for R-hat above 1.01.
     """
     from ._fit import fit, model_stiffness
 
@@ -168,6 +187,19 @@ def sample(
     curves = np.array(curves)
     band = (loads, *np.nanpercentile(curves, [2.5, 50, 97.5], axis=0))
     names = [p.name for p in fitted]
+    warnings = []
+    if not start.describes_data:
+        warnings.append(
+            "the least-squares fit says the model does not describe these data: the posterior of a rejected model"
+        )
+    if chains_.divergences > MAX_DIVERGENT_SHARE * chains * draws:
+        warnings.append(
+            f"{chains_.divergences} of {chains * draws} draws are divergent (more than {MAX_DIVERGENT_SHARE:.0%}): "
+            "the sampler did not explore the posterior"
+        )
+    unmixed = [n for i, n in enumerate(names) if not float(chains_.rhat[i]) <= MAX_RHAT]
+    if unmixed:
+        warnings.append(f"R-hat above {MAX_RHAT} for {', '.join(unmixed)}: the chains disagree; draw more")
     return Posterior(
         params=tuple(names),
         samples=physical,
@@ -186,4 +218,7 @@ def sample(
             "compilation": chains_.compilation,
             "sampling": chains_.sampling,
         },
+        describes_data=start.describes_data,
+        success=not warnings,
+        warnings=tuple(warnings),
     )

@@ -82,3 +82,24 @@ def test_the_predicted_band_holds_the_true_curve(seed_model):
 def test_bad_sampler_settings_are_refused_by_name(kw, message):
     with pytest.raises(ValueError, match=message):
         fitting.sample([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], make_scene(**TABLE1), **kw)
+
+
+def test_a_well_determined_posterior_is_a_success(seed_model):
+    posterior, _, _, _ = seed_model
+    assert posterior.success, posterior.warnings
+
+
+@pytest.fixture(scope="module")
+def constant_curve(seed_model):
+    """The same loads with one stiffness for all: a curve the model cannot describe."""
+    _, _, loads, _ = seed_model
+    K = np.full(loads.size, 1e9) * np.exp(0.01 * np.random.default_rng(1).normal(size=loads.size))
+    return fitting.sample(loads, K, make_scene(**WRONG_START), chains=4, draws=250, warmup=200, seed=0, band_samples=40)
+
+
+def test_the_posterior_of_a_rejected_model_is_not_a_success(constant_curve):
+    assert not constant_curve.success
+
+
+def test_the_posterior_of_a_rejected_model_says_so(constant_curve):
+    assert "(of a model that does not describe the data)" in constant_curve.summary()

@@ -16,9 +16,10 @@ import numpy as np
 from jaxtyping import Array, Float, Int
 
 from ..models import CLOSED_INTERFACE
-from ..numerics._validate import InputError, assigned, check_choice, check_range, concrete
+from ..numerics._validate import check_choice, check_range
 from ..quantities import Status
 from ._ccg import contact_cg
+from ._checks import check_arguments, check_iteration, valid_problem
 from ._operator import SUBSTRATES, Compliance
 from ._solver import secant_stiffness
 from ._tangent import frozen_solution
@@ -27,10 +28,6 @@ from ._tangent import frozen_solution
 FULL_CONTACT = CLOSED_INTERFACE
 # The iteration stops when every gap condition holds to this fraction of the heights' rms.
 DEFAULT_TOLERANCE = {np.dtype(np.float64): 1e-9, np.dtype(np.float32): 1e-5}
-SMALLEST_GRID = 8
-# Looser, the iteration stops before the contact set settles: on a 256² rough surface at 2-95 %
-# contact the tangent is within 1.4e-4 of a converged solve at 1e-5, 2.8e-3 at 1e-4, 2.5e-2 at 1e-3.
-MAX_TOLERANCE = 1e-5
 # A load within this ratio of the last (a secant's other side) starts mostly from its pressure.
 _CLOSE_RATIO = 1.1
 
@@ -59,53 +56,6 @@ class ContactSolution(eqx.Module):
     status: Int[Array, " loads"]
     iterations: Int[Array, " loads"]
     pressure: Float[Array, "loads n n"] | None
-
-
-def _check(heights, size, modulus, loads, hardness) -> None:
-    shape = jnp.shape(heights)
-    if len(shape) != 2 or shape[0] != shape[1]:
-        raise InputError(f"heights has shape {shape}: the boundary-element solve takes a square map (n × n)")
-    if shape[0] < SMALLEST_GRID:
-        raise InputError(f"heights is {shape[0]} × {shape[1]}: at least {SMALLEST_GRID} points a side are needed")
-    values = concrete(heights)
-    if values is not None and not np.all(np.isfinite(values)):
-        raise InputError("heights has NaN or infinite values: give a map of finite heights (m)")
-    with np.errstate(over="ignore"):
-        spread = None if values is None else np.std(values)
-    if spread is not None and not np.isfinite(spread):
-        raise InputError(
-            f"heights spans {np.ptp(values):.3g} m, beyond the working precision's range: give heights in metres"
-        )
-    check_range("size", size, 0.0, meaning="side length, m")
-    check_range("modulus", modulus, 0.0, meaning="contact modulus, Pa")
-    if hardness is not None:
-        check_range("hardness", hardness, 0.0, meaning="Pa")
-    if jnp.ndim(loads) != 1 or jnp.shape(loads)[0] == 0:
-        raise InputError(f"{assigned('loads', repr(jnp.shape(loads)))} must be a non-empty 1-D array of loads (N)")
-    check_range("loads", loads, 0.0, meaning="N")
-
-
-def check_iteration(tolerance, max_iterations) -> None:
-    """The constrained iteration's settings (`solve`, `BEM`); None is the precision's default."""
-    if tolerance is not None:
-        check_range("tolerance", tolerance, 0.0, MAX_TOLERANCE, high_open=False, meaning="fraction of the rms height")
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
-        raise InputError(f"max_iterations = {max_iterations!r} must be an integer >= 1")
-
-
-def valid_problem(heights, size, modulus, hardness):
-    """Whether traced arguments are a solvable problem (finite heights whose rms is representable,
-    positive finite size, modulus and hardness), and stand-ins where they are not: a flat map in unit
-    size and modulus, solved like any other and then flagged, so that the batch's other maps keep
-    finite values and gradients."""
-    rms = jax.lax.stop_gradient(jnp.std(heights))
-    ok = jnp.all(jnp.isfinite(heights)) & jnp.isfinite(rms)
-    for value in (size, modulus) + (() if hardness is None else (hardness,)):
-        ok &= jnp.isfinite(value) & (value > 0)
-    heights = jnp.where(ok, heights, 0.0)
-    size, modulus = jnp.where(ok, size, 1.0), jnp.where(ok, modulus, 1.0)
-    hardness = None if hardness is None else jnp.where(ok, hardness, 1.0)
-    return ok, heights, size, modulus, hardness
 
 
 def solve(
@@ -156,7 +106,7 @@ def solve(
     `max_iterations` < 1.
     """
     check_choice("substrate", substrate, SUBSTRATES)
-    _check(heights, size, modulus, loads, hardness)
+    check_arguments(heights, size, modulus, loads, hardness)
     check_iteration(tolerance, max_iterations)
     dtype = jnp.result_type(heights, loads, 1.0)
     if tolerance is None:

@@ -14,7 +14,8 @@ import jax.numpy as jnp
 from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
-from ._contact import DEFAULT_TOLERANCE, GridProblem, check_iteration, stand_in_loads, sweep_sides
+from ._checks import check_iteration
+from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep_sides
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights

@@ -80,7 +80,8 @@ def cmd_fit(args) -> int:
         record["posterior"] = posterior.to_dict()
     print_result(record, args.format, text)
     # 1: the fit ran and wrote its files, but its result is not usable (docs/cli.md, exit codes).
-    return 0 if result.success and result.describes_data else EXIT_NOT_USABLE
+    usable = result.success and result.describes_data and (posterior is None or posterior.success)
+    return 0 if usable else EXIT_NOT_USABLE
 
 
 def _prior(args):

@@ -34,7 +34,13 @@ def corner(posterior, path) -> str:
                 ax.set_xlabel(label[column])
             if j == 0 and i > 0:
                 ax.set_ylabel(label[row])
+    if not posterior.describes_data:
+        fig.suptitle(REJECTED, fontsize=9, color="C3")
     return save_figure(fig, path)
+
+
+# The caveat on a posterior plot of a model the least-squares fit rejected.
+REJECTED = "the model does not describe these data: a posterior of a rejected model"
 
 
 def posterior_band(posterior, loads, stiffness, path) -> str:
@@ -45,5 +51,7 @@ def posterior_band(posterior, loads, stiffness, path) -> str:
     ax.loglog(band_loads, median, "-", color="C1", label="posterior median")
     ax.fill_between(band_loads, lower, upper, color="C1", alpha=0.3, label="95 % of the posterior's curves")
     ax.set(xlabel="load F (N)", ylabel="stiffness K (N/m)")
+    if not posterior.describes_data:
+        ax.set_title(REJECTED, fontsize=9, color="C3")
     ax.legend(fontsize=8)
     return save_figure(fig, path)
