@@ -180,3 +180,54 @@ def test_an_npy_file_reads_as_surfacetopographys_reader_reads_it(tmp_path, shape
     np.testing.assert_array_equal(ours.heights(), theirs.heights())
     assert ours.physical_sizes == theirs.physical_sizes
     assert ours.is_periodic == theirs.is_periodic
+
+
+def _profile_rows(n=400):
+    """A random-walk x–z profile (m), one "x,z" row a line."""
+    z = np.cumsum(np.random.default_rng(0).normal(size=n)) * 1e-8
+    return [f"{i * 1e-6:.9e},{v:.9e}\n" for i, v in enumerate(z)]
+
+
+def _written(tmp_path, rows, header="x,z\n", name="profile.csv"):
+    path = tmp_path / name
+    path.write_text(header + "".join(rows))
+    return path
+
+
+def test_a_header_recognised_by_content_keeps_every_row(tmp_path):
+    assert tp.read(_written(tmp_path, _profile_rows(), header="# profilometer\nx (m), z (m)\n")).nb_grid_pts == (400,)
+
+
+@pytest.mark.parametrize("row", [50, 101, 398])
+def test_a_text_value_among_the_rows_is_refused_naming_its_line(tmp_path, row):
+    rows = _profile_rows()
+    rows[row] = "1.0e-5,abc\n"
+    with pytest.raises(ValueError, match=rf"line {row + 2} \('1.0e-5,abc'\) is not a row of numbers"):
+        tp.read(_written(tmp_path, rows))
+
+
+def test_a_profile_with_every_row_twice_is_refused(tmp_path):
+    rows = [r for r in _profile_rows() for _ in (0, 1)]
+    with pytest.raises(ValueError, match=r"line 3 repeats x = 0 of line 2 \(a duplicated row\?\)"):
+        tp.read(_written(tmp_path, rows))
+
+
+def test_rows_out_of_x_order_are_refused_naming_the_line(tmp_path):
+    rows = _profile_rows()
+    rows[10], rows[11] = rows[11], rows[10]
+    with pytest.raises(ValueError, match=r"line 13 has x = 1e-05, below line 12's 1.1e-05: the rows are not in"):
+        tp.read(_written(tmp_path, rows))
+
+
+def test_a_row_with_another_number_of_values_is_refused(tmp_path):
+    rows = _profile_rows()
+    rows[7] = "7e-6,1e-8,3\n"
+    with pytest.raises(ValueError, match="line 9 has 3 values where the rows above have 2"):
+        tp.read(_written(tmp_path, rows))
+
+
+def test_a_latin1_byte_that_the_reader_rejects_is_named_with_its_line(tmp_path):
+    path = tmp_path / "latin1.csv"
+    path.write_bytes("# Messung é\n".encode("latin-1") + "".join(_profile_rows()).encode())
+    with pytest.raises(ValueError, match="line 1 has the byte 0xe9, which is not UTF-8"):
+        tp.read(path)

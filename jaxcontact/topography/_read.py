@@ -13,6 +13,7 @@ import numpy as np
 
 from ..numerics._validate import InputError, PlausibilityWarning, assigned, optional_import, spelled
 from ._conventions import check_positive
+from ._text import check_text_table
 
 # Height and length units a file without its own may be given in.
 UNITS = ("m", "mm", "µm", "um", "nm")
@@ -137,7 +138,13 @@ def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = 
     path = pathlib.Path(path)
     if not path.is_file():
         raise InputError(f"topography file {str(path)!r} {'is a directory' if path.is_dir() else 'does not exist'}")
-    reader = _open(path)
+    not_utf8 = check_text_table(path) if path.suffix.lower().lstrip(".") in GENERIC_EXTENSIONS else None
+    try:
+        reader = _open(path)
+    except InputError as exc:
+        if not_utf8 is None:
+            raise
+        raise InputError(f"{exc} ({not_utf8}: save the file as UTF-8)") from None
     channel = reader.default_channel
     sizes = None if size is None else tuple(float(s) for s in np.atleast_1d(np.asarray(size, dtype=float)))
     if sizes is not None and len(sizes) != len(channel.nb_grid_pts):
