@@ -288,3 +288,26 @@ def test_surface_stitches_several_files(tmp_path, capsys):
         paths.append(str(tmp_path / name))
     main(["surface", *paths, "--out", str(tmp_path / "o"), "--format", "json"])
     assert abs(json.loads(capsys.readouterr().out)["psd"]["D"] - 1.5) < 0.03
+
+
+def test_a_measurement_stitched_with_itself_is_refused():
+    coarse, _ = two_resolutions(1.5, 0)
+    with pytest.raises(ValueError, match="topographies 1 and 2 are the same measurement"):
+        tp.characterise_stitched([coarse, coarse])
+
+
+@functools.cache
+def _mismatched():
+    """The two resolutions, the fine one's heights twice too large (a calibration mistake)."""
+    coarse, fine = two_resolutions(1.5, 0)
+    return coarse, Topography(fine.heights() * 2.0, fine.physical_sizes, periodic=False)
+
+
+def test_measurements_that_do_not_join_are_refused():
+    with pytest.raises(ValueError, match=r"do not join into one power law \(χ²/ν = .*accept_mismatch=True"):
+        tp.characterise_stitched(_mismatched())
+
+
+def test_measurements_that_do_not_join_are_fitted_where_the_user_insists():
+    c = tp.characterise_stitched(_mismatched(), accept_mismatch=True)
+    assert any("do not join into one power law" in d for d in c.diagnostics)

@@ -92,6 +92,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="topography file (any format SurfaceTopography reads); several files of one surface are stitched",
     )
     add_topography_options(p)
+    p.add_argument(
+        "--accept-mismatch",
+        action="store_true",
+        help="stitch files that do not join into one power law (their joint D is then not to be trusted)",
+    )
     common(p, "jaxcontact-out/surface")
     p.set_defaults(func=cmd_surface)
     scene_command(

@@ -166,6 +166,8 @@ def cmd_surface(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     if len(args.file) > 1:
         return _stitched(args, out)
+    if args.accept_mismatch:
+        raise InputError("--accept-mismatch applies to several files stitched; one file was given")
     try:
         topography, c = characterise_file(args)
     except NoBandError as exc:
@@ -256,7 +258,7 @@ def _stitched(args, out: pathlib.Path) -> int:
 
     if args.band is not None:
         raise InputError("--band applies to one file; stitched measurements each find their own band")
-    c = characterise_stitched([read_file(args, path) for path in args.file])
+    c = characterise_stitched([read_file(args, path) for path in args.file], accept_mismatch=args.accept_mismatch)
     names = " + ".join(pathlib.Path(f).name for f in args.file)
     files = [
         psd_figure_stitched(c, out / "psd.png"),

@@ -9,13 +9,17 @@ import math
 import numpy as np
 from scipy import optimize
 
-from ..numerics._validate import InputError
+from ..numerics._validate import InputError, spelled
 from . import _spectra as spectra
 from ._band import CALIBRATION, select_band
 from ._conventions import log_G_of_prefactor, log_prefactor, spectral_slope
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
+
+# Above this χ²/ν of the joint power law the measurements are not of one spectrum: a unit or
+# calibration mistake, or two surfaces.
+MISMATCH = 3.0
 
 
 def _measured(topography, index: int):
@@ -33,18 +37,36 @@ def _measured(topography, index: int):
     return kind, spectrum, law
 
 
-def characterise_stitched(topographies) -> Characterisation:
+def _check_distinct(topographies) -> None:
+    """Refuse a measurement given twice: its bins would count twice and shrink the intervals."""
+    for j, b in enumerate(topographies):
+        for i, a in enumerate(topographies[:j]):
+            if a.nb_grid_pts == b.nb_grid_pts and np.array_equal(a.heights(), b.heights()):
+                raise InputError(
+                    f"topographies {i + 1} and {j + 1} are the same measurement (equal heights): each counted twice "
+                    "would make the intervals look twice as well determined; give each measurement once"
+                )
+
+
+def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Characterisation:
     """D, G and l_min from several measurements of one surface: each in its own band (as `characterise`
     finds it, floor and roll-off taken out), one power law in (D, ln G) over all their bins, profiles'
     `C1D` and maps' `C2D` each with its own prefactor. The covariance is the weighted least-squares
     one (scaled by χ²/ν where above 1) plus, per measurement, a 1 % uncertainty of its height scale and
     the change when its band's short end moves in by a factor 2.
 
-    **Arguments:** `topographies`, two or more SurfaceTopography line scans or maps in metres.
+    **Arguments:** `topographies`, two or more SurfaceTopography line scans or maps in metres, each a
+    different measurement; `accept_mismatch`, return the joint fit even where the measurements do not
+    join into one power law (χ²/ν > 3; then a diagnostic says so) instead of refusing them.
     **Returns:** a `Characterisation` (method "psd", kind "stitched" where kinds differ).
+
+    **Raises:** `ValueError` for fewer than two measurements, a measurement given twice, and (unless
+    `accept_mismatch`) measurements that do not join: their height scales, lateral calibrations or
+    the surfaces measured differ, and a joint D would lie outside what each says.
     """
     if len(topographies) < 2:
         raise InputError(f"topographies: {len(topographies)} given; stitching needs at least 2 measurements")
+    _check_distinct(topographies)
     measured = [_measured(t, k) for k, t in enumerate(topographies)]
     kinds = [m[0] for m in measured]
     points = [(kind, *law.points) for kind, _, law in measured]
@@ -80,11 +102,16 @@ def characterise_stitched(topographies) -> Characterisation:
             moved = optimize.least_squares(residuals, fit.x, bounds=bounds, x_scale=[0.1, 1.0], args=args).x - fit.x
             covariance = covariance + np.outer(moved, moved)
     diagnostics = ()
-    if chi2 / (n - 2) > 3:
-        diagnostics += (
-            f"the measurements do not join into one power law (χ²/ν = {chi2 / (n - 2):.3g}): their height scales, "
-            "their lateral calibrations or the surfaces measured differ; the intervals include the misfit",
+    if chi2 / (n - 2) > MISMATCH:
+        alone = ", ".join(f"{s.D_of(law.slope):.3g}" for _, s, law in measured)
+        mismatch = (
+            f"the measurements do not join into one power law (χ²/ν = {chi2 / (n - 2):.3g}; jointly D = {D_hat:.3g}, "
+            f"alone D = {alone}): their height scales, their lateral calibrations or the surfaces measured differ"
         )
+        if not accept_mismatch:
+            insist = spelled("accept_mismatch=True", "--accept-mismatch")
+            raise InputError(f"{mismatch}: characterise them one by one (or give {insist} to fit them jointly anyway)")
+        diagnostics += (f"{mismatch}; the intervals include the misfit",)
     dof = max(n - 2, 2)
     # The bins the joint fit uses (a band's long-end few-mode bins are in its own likelihood fit only).
     shortest = min(2 * math.pi / q[-1] for _, q, _, _ in points)
