@@ -16,6 +16,7 @@ import numpy as np
 
 import jaxcontact as jc
 from jaxcontact import InputError
+from jaxcontact.numerics import decoded_text
 
 COLUMN_SETS = (("load_N", "stiffness_N_per_m"), ("F_star", "K_star"))
 
@@ -82,7 +83,7 @@ def load_curve(path, scene: jc.Scene) -> Curve:
         raise DataError(f"data file {str(path)!r} is a directory, not a CSV file")
     if not path.is_file():
         raise DataError(f"data file {str(path)!r} does not exist")
-    return parse_curve(path.read_text(), scene, str(path))
+    return parse_curve(decoded_text(path.read_bytes())[0], scene, str(path))
 
 
 def write_curve(path, loads, stiffness, comments=()) -> None:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, make_scene
 
+import fitting
 import jaxcontact as jc
 from jaxcontact.cli import main
 
@@ -74,6 +75,11 @@ def test_run_json(tmp_path, capsys):
         ("[surface\nD = 1.4", "is not valid TOML"),
         ("[surface]\nD = 1.4\n", "missing key surface.G"),
         ("[surface]\nD = 1.4\nG = 1e-10\nroughness = 2\n", "unknown key surface.roughness"),
+        (
+            "[surface]\nD = 1.5\nG = 3e-10\n[material]\nE = 2e11\nnu = 0.3\nH = 4e9\n[joint]\narea = 0\n"
+            "[loads]\nvalues = [1.0]\n",
+            "error: area (nominal contact area, m²) = 0 is outside its valid range",
+        ),
     ],
 )
 def test_errors_are_one_line_with_exit_2(tmp_path, capsys, content, message):
@@ -572,3 +578,32 @@ def test_the_bench_table_for_the_docs_states_each_figure_and_its_machine():
         "| 200-load curve, like for like (a_l, K, A_r, status), `jax.jit` | 0.100 ms: 1300× scipy (130 ms) "
         "| ≥ 1000× scipy |"
     )
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--draws", "100"], "--draws 100 applies with --posterior only"),
+        (["--seed", "3"], "--seed 3 applies with --posterior only"),
+        (["--posterior", "--seed", "-1"], "--seed -1 must be an integer >= 0"),
+        (["--prior", "D=1.4:0.1", "--prior", "D=1.5:0.1"], "D has a prior already; give one per parameter"),
+    ],
+)
+def test_fit_options_that_would_be_ignored_are_one_line_with_exit_2(tmp_path, capsys, extra, message):
+    data = ROOT / "data" / "table1_grinding_generated.csv"
+    assert main(["fit", str(data), *extra, "--out", str(tmp_path), "--no-progress"]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_scene_file_with_a_latin1_comment_is_read(tmp_path, capsys):
+    path = tmp_path / "scene.toml"
+    scene = "[surface]\nD = 1.5\nG = 3e-10\n[material]\nE = 2e11\nnu = 0.3\nH = 4e9\n[joint]\narea = 1e-4\n"
+    path.write_bytes("# Messung é\n".encode("latin-1") + (scene + "[loads]\nvalues = [1.0]\n").encode())
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--format", "json", "--no-progress"]) == 0
+    assert json.loads(capsys.readouterr().out)["rows"][0]["status"] == "ok"
+
+
+def test_a_curve_file_with_a_latin1_comment_is_read(tmp_path):
+    path = tmp_path / "curve.csv"
+    path.write_bytes("# Messung é\n".encode("latin-1") + (ROOT / "data" / "table1_grinding_generated.csv").read_bytes())
+    assert fitting.load_curve(path, make_scene(**TABLE1)).loads.size == 40

@@ -75,3 +75,25 @@ def test_a_usage_mistake_is_one_line_with_exit_2(capsys):
     assert err == [
         "jaxcontact surface: error: argument --unit: invalid choice: 'inch' (choose from 'm', 'mm', 'µm', 'um', 'nm')"
     ]
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["run", "--area", "-1"], r"--area -1 \(nominal contact area, m²\) is outside its valid range"),
+        (["run", "--l-min", "-1e-9"], r"--l-min -1e-09 \(lower cutoff length, m\) is outside its valid range"),
+        (["run", "--l-min", "nan"], r"--l-min nan \(lower cutoff length, m\) is outside its valid range"),
+        (["run", "--model", "bem"], r"grid = 256 is too coarse for l_min = 1e-09 m"),
+        (["compare", "--scale", "--validation"], r"--scale and --validation: give one study at a time"),
+        (["compare", "--seed", "-1"], r"--seed -1 must be an integer >= 0"),
+    ],
+)
+def test_an_option_out_of_its_range_or_ignored_is_one_line_with_exit_2(tmp_path, capsys, argv, message):
+    assert main([*argv, "--out", str(tmp_path / "o"), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and __import__("re").search(message, err[0]), err
+
+
+def test_an_area_option_is_warned_about_as_a_scene_files_value(tmp_path, capsys):
+    assert main(["run", "--area", "264", "--out", str(tmp_path), "--no-progress", "--format", "json"]) == 0
+    assert "area = 264 m² is far outside what engineering surfaces have" in capsys.readouterr().err

@@ -26,6 +26,16 @@ def cmd_run(args) -> int:
         from ._topography_run import overridden
 
         spec = overridden(spec, args)
+    if spec.scene.model.name == "bem":
+        # A grid that cannot resolve l_min flags every load: refused before the solves, as `compare` does.
+        from ..bem import check_grid
+        from ..numerics import InputError
+
+        scene = spec.scene
+        try:
+            check_grid(float(scene.surface.l_min), float(scene.area) ** 0.5, scene.model.grid)
+        except InputError as exc:
+            raise InputError(f"{exc} (the grid is the scene file's [model] grid)") from None
     warnings = implausible_values(spec)
     solution = solve_sweep(
         spec.scene,

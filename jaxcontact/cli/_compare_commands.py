@@ -24,6 +24,11 @@ def cmd_compare(args) -> int:
         from ._compare_measured import compare_measured
 
         return compare_measured(args, out, cache(args), progress(args, "BEM"))
+    if args.seed < 0:
+        raise CommandError(f"--seed {args.seed} must be an integer >= 0")
+    studies = [f"--{name}" for name in ("plasticity", "scale", "fits", "validation") if getattr(args, name)]
+    if len(studies) > 1:
+        raise CommandError(f"{' and '.join(studies)}: give one study at a time")
     spec = compare_spec(args)
     options = dict(
         grid=args.grid, realisations=args.realisations, seed=args.seed, cache=cache(args), reference=args.reference

@@ -21,6 +21,11 @@ def cmd_fit(args) -> int:
 
     if not 1 <= args.starts <= 1024:
         raise CommandError(f"--starts {args.starts} must be an integer in [1, 1024]")
+    for option, value in (("--draws", args.draws), ("--seed", args.seed)):
+        if value is not None and not args.posterior:
+            raise CommandError(f"{option} {value} applies with --posterior only: add --posterior, or leave it out")
+    if args.seed is not None and args.seed < 0:
+        raise CommandError(f"--seed {args.seed} must be an integer >= 0")
     spec = load_scene(args.scene)
     curve = fitting.load_curve(args.data, spec.scene)
     t = time.perf_counter()
@@ -64,8 +69,8 @@ def cmd_fit(args) -> int:
             args.params,
             prior=prior,
             noise=args.noise,
-            draws=args.draws,
-            seed=args.seed,
+            draws=500 if args.draws is None else args.draws,
+            seed=args.seed or 0,
         )
         files += [
             corner(posterior, out / "corner.png"),
@@ -97,6 +102,8 @@ def _prior(args):
     stated = {}
     for text in args.prior:
         name, _, value = text.partition("=")
+        if name.strip() in stated:
+            raise CommandError(f"--prior {text}: {name.strip()} has a prior already; give one per parameter")
         try:
             if ".." in value:
                 low, high = (float(v) for v in value.split(".."))

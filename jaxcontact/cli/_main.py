@@ -158,8 +158,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also sample the posterior by NUTS (the bayes extra): 4 chains, corner.png, posterior_band.png",
     )
-    p.add_argument("--draws", type=int, default=500, help="with --posterior: draws per chain (default: 500)")
-    p.add_argument("--seed", type=int, default=0, help="with --posterior: the sampler's seed (default: 0)")
+    p.add_argument("--draws", type=int, help="with --posterior: draws per chain (default: 500)")
+    p.add_argument("--seed", type=int, help="with --posterior: the sampler's seed, >= 0 (default: 0)")
     common(p, "jaxcontact-out")
     p.set_defaults(func=cmd_fit)
 

@@ -36,6 +36,7 @@ except ModuleNotFoundError:  # Python < 3.11
 
 from ..core import NewtonBisection, Outputs, Scene
 from ..numerics import InputError
+from ..numerics._validate import decoded_text, file_spelling
 from ..quantities import Material, Scales, Surface
 
 DEFAULT_SCENE = "table1_grinding.toml"
@@ -184,11 +185,12 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     settings = {k: model.pop(k) for k in ("max_steps", "solver_tolerance") if k in model}
     options = {**model, **{k: v for k, v in effects.items() if k != "regime_shares"}}
     try:
-        surface = Surface(**data["surface"])
-        material = Material(**data["material"])
-        scene = Scene(surface, material, data["joint"]["area"], model=name, **options)
-        outputs = Outputs(regime_shares=effects.get("regime_shares", True))
-        solver = NewtonBisection(settings.get("max_steps", 64), settings.get("solver_tolerance"))
+        with file_spelling():
+            surface = Surface(**data["surface"])
+            material = Material(**data["material"])
+            scene = Scene(surface, material, data["joint"]["area"], model=name, **options)
+            outputs = Outputs(regime_shares=effects.get("regime_shares", True))
+            solver = NewtonBisection(settings.get("max_steps", 64), settings.get("solver_tolerance"))
     except SceneFileError:
         raise
     except InputError as exc:
@@ -262,7 +264,7 @@ def load_scene(path: str | pathlib.Path | None = None, default: str = DEFAULT_SC
             raise SceneFileError(f"scene file {str(path)!r} is a directory, not a TOML file")
         if not path.is_file():
             raise SceneFileError(f"scene file {str(path)!r} does not exist")
-        text, source = path.read_text().lstrip("\ufeff"), str(path)
+        text, source = decoded_text(path.read_bytes())[0], str(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -30,8 +30,8 @@ def add_run_topography_options(p) -> None:
 
 
 def _scene(scene, model: str, surface, args):
-    import equinox as eqx
-
+    """The scene with the options' model, surface and material, built anew: the options' values get the
+    checks and plausibility warnings that the same values in a scene file get."""
     from ..core import Scene
     from ..quantities import Material
 
@@ -41,9 +41,8 @@ def _scene(scene, model: str, surface, args):
         H=scene.material.H if args.hardness is None else args.hardness,
     )
     area = scene.area if args.area is None else args.area
-    if model == scene.model.name:  # the scene's own model keeps the scene's options
-        return eqx.tree_at(lambda s: (s.surface, s.material, s.area), scene, (surface, material, area))
-    return Scene(surface, material, area, model=model)
+    # The scene's own model keeps the scene's options.
+    return Scene(surface, material, area, model=scene.model if model == scene.model.name else model)
 
 
 def zero_note(name: str, solution) -> str | None:
@@ -100,11 +99,10 @@ OVERRIDES = ("model", "l_min", "modulus", "poisson", "hardness", "area")
 
 def overridden(spec, args):
     """`spec` with the model, l_min and material the options give (a run without --topography)."""
-    import equinox as eqx
+    from ..quantities import Surface
 
     if all(getattr(args, k, None) is None for k in OVERRIDES):
         return spec
-    surface = spec.scene.surface
-    if args.l_min is not None:
-        surface = eqx.tree_at(lambda s: s.l_min, surface, args.l_min)
+    old = spec.scene.surface
+    surface = Surface(D=old.D, G=old.G, l_min=old.l_min if args.l_min is None else args.l_min)
     return dataclasses.replace(spec, scene=_scene(spec.scene, args.model or spec.scene.model.name, surface, args))

@@ -21,6 +21,7 @@ from ._validate import (
     check_choice,
     check_instance,
     check_range,
+    decoded_text,
     optional_import,
 )
 
@@ -31,6 +32,7 @@ __all__ = [
     "check_choice",
     "check_instance",
     "check_range",
+    "decoded_text",
     "optional_import",
     "exponential_integral",
     "GaussLegendre",

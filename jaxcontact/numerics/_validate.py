@@ -36,6 +36,17 @@ def command_line_spelling(options: dict[str, str]):
         _COMMAND_LINE_OPTIONS.reset(token)
 
 
+@contextlib.contextmanager
+def file_spelling():
+    """Within this context, messages name values as a file (a scene file's keys) does: by their Python
+    names, also while a command runs."""
+    token = _COMMAND_LINE_OPTIONS.set(None)
+    try:
+        yield
+    finally:
+        _COMMAND_LINE_OPTIONS.reset(token)
+
+
 def spelled(python: str, command_line: str) -> str:
     """`python` (how a Python caller writes an argument), or `command_line` while a command runs."""
     return python if _COMMAND_LINE_OPTIONS.get() is None else command_line
@@ -153,3 +164,14 @@ def check_instance(name: str, value, kind: type) -> None:
     """Raise `ValueError` unless `value` is a `kind` (a model's choice passed as an object)."""
     if not isinstance(value, kind):
         raise InputError(f"{name} = {value!r} must be a {kind.__name__} (see jaxcontact.{kind.__name__})")
+
+
+def decoded_text(data: bytes) -> tuple[str, str | None]:
+    """A text file's bytes as text: UTF-8 (a byte-order mark dropped), else Latin-1, which instrument and
+    lab software writes ("µm", "é" in a comment); and where it is not UTF-8 ("line 4 has the byte
+    0xb5, which is not UTF-8"), or None."""
+    try:
+        return data.decode("utf-8-sig"), None
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        return data.decode("latin-1"), f"line {line} has the byte 0x{data[exc.start]:02x}, which is not UTF-8"

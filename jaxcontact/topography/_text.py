@@ -7,7 +7,7 @@ from __future__ import annotations
 import pathlib
 import re
 
-from ..numerics._validate import InputError
+from ..numerics._validate import InputError, decoded_text
 
 # A row's numbers are separated by commas, semicolons, tabs or spaces.
 _SEPARATORS = re.compile(r"[,;\s]+")
@@ -26,16 +26,6 @@ def _numbers(line: str) -> list[float] | None:
         return None
 
 
-def _decoded(data: bytes) -> tuple[str, str | None]:
-    """The text (UTF-8, else Latin-1, which instrument software writes: "µm"), and where it is not
-    UTF-8 ("line 4 has the byte 0xb5"), or None."""
-    try:
-        return data.decode("utf-8-sig"), None
-    except UnicodeDecodeError as exc:
-        line = data[: exc.start].count(b"\n") + 1
-        return data.decode("latin-1"), f"line {line} has the byte 0x{data[exc.start]:02x}, which is not UTF-8"
-
-
 def check_text_table(path: pathlib.Path) -> str | None:
     """Raise `InputError` naming the line where a text table of numbers goes wrong: a field that is not
     a number among the data rows (header lines are those above the first row of numbers), a row with
@@ -47,7 +37,7 @@ def check_text_table(path: pathlib.Path) -> str | None:
     data = path.read_bytes()
     if b"\0" in data[:_PROBE]:
         return None
-    text, encoding = _decoded(data)
+    text, encoding = decoded_text(data)
     width, previous_x, previous_line = None, None, None
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
