@@ -607,3 +607,13 @@ def test_a_curve_file_with_a_latin1_comment_is_read(tmp_path):
     path = tmp_path / "curve.csv"
     path.write_bytes("# Messung é\n".encode("latin-1") + (ROOT / "data" / "table1_grinding_generated.csv").read_bytes())
     assert fitting.load_curve(path, make_scene(**TABLE1)).loads.size == 40
+
+
+def test_an_interrupted_posterior_keeps_the_least_squares_fit(tmp_path, capsys, monkeypatch):
+    def interrupted(*_, **__):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fitting, "sample", interrupted)
+    data = ROOT / "data" / "table1_grinding_generated.csv"
+    assert main(["fit", str(data), "--posterior", "--out", str(tmp_path), "--no-progress"]) == 130
+    assert "fit by bfgs" in capsys.readouterr().out

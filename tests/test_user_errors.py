@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 import pytest
-from helpers import TABLE1, make_scene
+from helpers import ROOT, TABLE1, make_scene
 
 import jaxcontact as jc
 from jaxcontact import topography as tp
@@ -97,3 +97,28 @@ def test_an_option_out_of_its_range_or_ignored_is_one_line_with_exit_2(tmp_path,
 def test_an_area_option_is_warned_about_as_a_scene_files_value(tmp_path, capsys):
     assert main(["run", "--area", "264", "--out", str(tmp_path), "--no-progress", "--format", "json"]) == 0
     assert "area = 264 m² is far outside what engineering surfaces have" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run"],
+        ["surface", "{map}", "--size", "1e-3", "1e-3"],
+        ["fit", str(ROOT / "data" / "table1_grinding_generated.csv")],
+        ["figures"],
+    ],
+    ids=["run", "surface", "fit", "figures"],
+)
+def test_an_output_folder_that_is_a_file_is_refused_before_computing(tmp_path, capsys, a_map, argv):
+    existing = tmp_path / "results.csv"
+    existing.write_text("kept\n")
+    argv = [a.replace("{map}", str(a_map)) for a in argv]
+    assert main([*argv, "--out", str(existing), "--no-progress"]) == 2
+    assert capsys.readouterr().err.strip().endswith("is a file, not a folder; name a folder to write into")
+
+
+def test_a_cache_folder_that_is_a_file_is_refused(tmp_path, capsys):
+    existing = tmp_path / "cache"
+    existing.write_text("")
+    assert main(["compare", "--cache-dir", str(existing), "--out", str(tmp_path / "o"), "--no-progress"]) == 2
+    assert "--cache-dir" in capsys.readouterr().err

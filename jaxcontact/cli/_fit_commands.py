@@ -62,16 +62,21 @@ def cmd_fit(args) -> int:
     if args.posterior:
         from ._posterior_plots import corner, posterior_band
 
-        posterior = fitting.sample(
-            curve.loads,
-            curve.stiffness,
-            spec.scene,
-            args.params,
-            prior=prior,
-            noise=args.noise,
-            draws=500 if args.draws is None else args.draws,
-            seed=args.seed or 0,
-        )
+        try:
+            posterior = fitting.sample(
+                curve.loads,
+                curve.stiffness,
+                spec.scene,
+                args.params,
+                prior=prior,
+                noise=args.noise,
+                draws=500 if args.draws is None else args.draws,
+                seed=args.seed or 0,
+            )
+        except KeyboardInterrupt:
+            # The least-squares fit is done: interrupting the sampler must not lose it.
+            print(f"{curve.source}: {curve.loads.size} points\n{summary}\n(the posterior was interrupted)", flush=True)
+            raise
         files += [
             corner(posterior, out / "corner.png"),
             posterior_band(posterior, curve.loads, curve.stiffness, out / "posterior_band.png"),

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import pathlib
 import re
 import sys
 import traceback
@@ -202,6 +203,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def writable_folder(option: str, path) -> None:
+    """Refuse in one line, before any computing, a folder `path` (an option's) that cannot be written:
+    a file in its place, or no permission to write there (or to make it), would lose the work at the end."""
+    folder = pathlib.Path(path).absolute()
+    existing = next(p for p in (folder, *folder.parents) if p.exists())
+    if not existing.is_dir():
+        raise CommandError(f"{option} {path}: {existing} is a file, not a folder; name a folder to write into")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise CommandError(f"{option} {path}: no permission to write in {existing}")
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -213,6 +225,10 @@ def main(argv=None) -> int:
             warnings_as_lines(args.command),
             command_line_spelling(args.options_by_name),
         ):
+            for option in ("out", "cache_dir"):
+                skipped = option == "cache_dir" and getattr(args, "no_cache", False)
+                if getattr(args, option, None) is not None and not skipped:
+                    writable_folder(args.options_by_name.get(option, f"--{option}"), getattr(args, option))
             return args.func(args)
     except (
         InputError,
