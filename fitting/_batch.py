@@ -22,6 +22,7 @@ from scipy import special
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
+from jaxcontact.numerics import float_array
 
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
@@ -118,8 +119,9 @@ def fit_batch(
 
     t0 = time.perf_counter()
     fitted = resolve(params)
-    loads = np.atleast_2d(np.asarray(loads, dtype=float))
-    stiffness = np.atleast_2d(np.asarray(stiffness, dtype=float))
+    loads, stiffness = (np.atleast_2d(float_array(k, v)) for k, v in (("loads", loads), ("stiffness", stiffness)))
+    if loads.ndim != 2 or loads.shape[0] == 0:
+        raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
     if loads.shape != stiffness.shape:
         raise InputError(f"loads {loads.shape} and stiffness {stiffness.shape} differ in shape (curves, points)")
     if loads.shape[1] <= len(fitted):

@@ -24,6 +24,7 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
+from jaxcontact.numerics import float_array
 
 from ._identifiability import profiles_of
 from ._observed import POINTS_MULTIPLE, observations
@@ -159,7 +160,14 @@ def fit(
     if starts is None:
         u0s = starting_points(fitted, n_starts, seed, include=own)
     else:
-        starts = np.atleast_2d(np.asarray(starts, dtype=float))
+        starts = np.atleast_2d(float_array("starts", starts))
+        if starts.ndim != 2 or starts.shape[1] != len(fitted) or starts.shape[0] == 0:
+            names = ", ".join(p.name for p in fitted)
+            raise InputError(f"starts has shape {starts.shape}: give (n, {len(fitted)}) values of {names}")
+        for row in starts:
+            for p, v in zip(fitted, row):
+                if not p.low < v < p.high:
+                    raise InputError(f"starts: {p.name} = {v:g} is outside its search range ({p.low:g}, {p.high:g})")
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene, _ = prepare(scene, loads)
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)

@@ -15,6 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxcontact import InputError
+from jaxcontact.numerics import float_array
 
 from ._residuals import FLAGGED_RESIDUAL, Observations
 from ._statistics import point_scatter
@@ -34,7 +35,7 @@ def _padded(values: np.ndarray, multiple: int) -> np.ndarray:
 
 
 def _column(name: str, values, size: int) -> np.ndarray:
-    values = np.asarray(values, dtype=float).reshape(-1)
+    values = float_array(name, values).reshape(-1)
     if values.size != size:
         raise InputError(f"loads ({size}) and {name} ({values.size}) differ in length")
     return values
@@ -62,7 +63,7 @@ def _stated_noise(noise, columns) -> dict:
 def observations(loads, stiffness, approach, reference_load, noise, dtype, multiple: int):
     """`(data, loads, stated)`: the padded `Observations`, the loads as given (1-D), and whether every
     σ was stated (then the weighted residuals are in units of the noise)."""
-    loads = np.asarray(loads, dtype=float).reshape(-1)
+    loads = float_array("loads", loads).reshape(-1)
     if stiffness is None and approach is None:
         raise InputError("stiffness = None and approach = None: give at least one measured curve")
     if not np.all(np.isfinite(loads) & (loads > 0)):

@@ -151,9 +151,14 @@ def sample(
     """
     from ._fit import fit, model_stiffness
 
-    for name, value in (("chains", chains), ("draws", draws), ("warmup", warmup)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < (2 if name == "chains" else 10):
-            raise jc.InputError(f"{name} = {value!r} must be an integer >= {2 if name == 'chains' else 10}")
+    for name, value, least in (
+        ("chains", chains, 2),
+        ("draws", draws, 10),
+        ("warmup", warmup, 10),
+        ("band_samples", band_samples, 1),
+    ):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise jc.InputError(f"{name} = {value!r} must be an integer >= {least}")
     t0 = time.perf_counter()
     start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed)
     fitted = resolve(params)

@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from jaxcontact import InputError
+from jaxcontact.numerics import float_array
 
 from ._optimise import Objective, remember, run_lm
 from ._residuals import evaluated
@@ -101,14 +102,14 @@ def _stated_prior(prior: dict, fitted):
         if not isinstance(spec, dict) or not ({"mean", "sd"} <= set(spec) or {"low", "high"} <= set(spec)):
             raise InputError(f"prior[{name!r}] = {spec!r} must be (mean, sd), {{'mean', 'sd'}} or {{'low', 'high'}}")
         if "low" in spec:
-            low, high = float(spec["low"]), float(spec["high"])
+            low, high = (float(float_array(f"prior[{name!r}][{k!r}]", spec[k], 0)) for k in ("low", "high"))
             if not (p.low <= low < high <= p.high):
                 raise InputError(
                     f"prior[{name!r}] bounds [{low:g}, {high:g}] must satisfy {p.low:g} <= low < high <= {p.high:g}"
                 )
             bounds[name] = (low, high)
             continue
-        m, sd = float(spec["mean"]), float(spec["sd"])
+        m, sd = (float(float_array(f"prior[{name!r}][{k!r}]", spec[k], 0)) for k in ("mean", "sd"))
         if not (math.isfinite(sd) and sd > 0):
             raise InputError(f"prior[{name!r}]: sd = {sd:g} must be > 0 (valid range (0, inf))")
         if not (p.low < m < p.high):

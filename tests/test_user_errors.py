@@ -1,4 +1,5 @@
-"""What a user is told: missing extras, implausible units, and every exit code of the command line."""
+"""What a user is told: missing extras, implausible units, every exit code of the command line, and a
+mistake in a Python call."""
 
 import sys
 
@@ -6,7 +7,9 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, make_scene
 
+import fitting
 import jaxcontact as jc
+from jaxcontact import bem
 from jaxcontact import topography as tp
 from jaxcontact.cli import main
 
@@ -122,3 +125,51 @@ def test_a_cache_folder_that_is_a_file_is_refused(tmp_path, capsys):
     existing.write_text("")
     assert main(["compare", "--cache-dir", str(existing), "--out", str(tmp_path / "o"), "--no-progress"]) == 2
     assert "--cache-dir" in capsys.readouterr().err
+
+
+def _curve():
+    loads = np.geomspace(1e-9, 1e-4, 12) * TABLE1["E"] * TABLE1["area"]
+    return loads, 1e9 * (loads / loads[0]) ** 0.4
+
+
+API_MISTAKES = {
+    "BEM grid 2**20": (lambda: jc.BEM(grid=2**20), r"grid = 1048576 must be a power of two in \[8, 8192\]"),
+    "complex heights": (
+        lambda: bem.solve(np.ones((16, 16)) * (1 + 1j), 1e-4, 1e11, np.array([1.0])),
+        "heights has dtype complex128: give real heights",
+    ),
+    "ragged batch": (
+        lambda: fitting.fit_batch([[1.0, 2.0, 3.0], [1.0, 2.0]], [[1.0, 2.0, 3.0], [1.0, 2.0]], make_scene(**TABLE1)),
+        r"loads = .* must be real numbers \(an array of one shape\)",
+    ),
+    "empty batch": (
+        lambda: fitting.fit_batch(np.zeros((0, 5)), np.zeros((0, 5)), make_scene(**TABLE1)),
+        r"loads has shape \(0, 5\): give \(curves, points\), at least one curve",
+    ),
+    "no band samples": (
+        lambda: fitting.sample(*_curve(), make_scene(**TABLE1), band_samples=0),
+        "band_samples = 0 must be an integer >= 1",
+    ),
+    "a prior's mean in text": (
+        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), prior={"D": ("a", 0.1)}),
+        r"prior\['D'\]\['mean'\] = 'a' must be real numbers",
+    ),
+    "an approach in text": (
+        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), approach="abc"),
+        "approach = 'abc' must be real numbers",
+    ),
+    "starts of another width": (
+        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), starts=[[1.4, 1e-10, 3.0]]),
+        r"starts has shape \(1, 3\): give \(n, 2\) values of D, G",
+    ),
+    "a start beyond its bound": (
+        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), starts=[[2.5, 1e-10]]),
+        r"starts: D = 2.5 is outside its search range \(1, 2\)",
+    ),
+}
+
+
+@pytest.mark.parametrize("call, message", API_MISTAKES.values(), ids=API_MISTAKES.keys())
+def test_a_python_mistake_is_a_value_error_naming_it(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()

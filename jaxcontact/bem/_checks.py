@@ -21,6 +21,8 @@ def check_arguments(heights, size, modulus, loads, hardness) -> None:
         raise InputError(f"heights has shape {shape}: the boundary-element solve takes a square map (n × n)")
     if shape[0] < SMALLEST_GRID:
         raise InputError(f"heights is {shape[0]} × {shape[1]}: at least {SMALLEST_GRID} points a side are needed")
+    if not jnp.issubdtype(jnp.result_type(heights), jnp.floating):
+        raise InputError(f"heights has dtype {jnp.result_type(heights)}: give real heights (m), a float array")
     values = concrete(heights)
     if values is not None and not np.all(np.isfinite(values)):
         raise InputError("heights has NaN or infinite values: give a map of finite heights (m)")

@@ -9,13 +9,16 @@ from ..numerics._validate import InputError, assigned, check_range, optional_imp
 # The shortest wavelength l_min must span this many grid spacings: then the surface is also
 # exact on the half grid (2 points per l_min, its Nyquist limit), which the convergence check uses.
 PIXELS_PER_L_MIN = 4
+# The largest grid: 8192² in float64 is half a GiB a field, and the solve holds several.
+MAX_GRID = 8192
 
 
 def check_grid_points(grid) -> None:
     """Raise `InputError` unless `grid` is a power of two ≥ 8 (surfaces are coarsened by halving)."""
-    if isinstance(grid, bool) or not isinstance(grid, int) or grid < 8 or grid & (grid - 1):
+    if isinstance(grid, bool) or not isinstance(grid, int) or not 8 <= grid <= MAX_GRID or grid & (grid - 1):
         raise InputError(
-            f"{assigned('grid', repr(grid))} must be a power of two >= 8 (surfaces are coarsened by halving)"
+            f"{assigned('grid', repr(grid))} must be a power of two in [8, {MAX_GRID}] (surfaces are coarsened by "
+            "halving)"
         )
 
 

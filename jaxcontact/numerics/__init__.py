@@ -22,6 +22,7 @@ from ._validate import (
     check_instance,
     check_range,
     decoded_text,
+    float_array,
     optional_import,
 )
 
@@ -33,6 +34,7 @@ __all__ = [
     "check_instance",
     "check_range",
     "decoded_text",
+    "float_array",
     "optional_import",
     "exponential_integral",
     "GaussLegendre",

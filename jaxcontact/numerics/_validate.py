@@ -175,3 +175,23 @@ def decoded_text(data: bytes) -> tuple[str, str | None]:
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         return data.decode("latin-1"), f"line {line} has the byte 0x{data[exc.start]:02x}, which is not UTF-8"
+
+
+def float_array(name: str, value, ndim: int | None = None) -> np.ndarray:
+    """`value` as a float64 numpy array, or `InputError` naming `name`: text, complex numbers, ragged
+    nesting, or (with `ndim`) another number of dimensions."""
+    try:
+        array = np.asarray(value)
+        if np.iscomplexobj(array):
+            raise TypeError
+        array = array.astype(np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} = {_shown(value)} must be real numbers (an array of one shape)") from None
+    if ndim is not None and array.ndim != ndim:
+        raise InputError(f"{name} has {array.ndim} dimension(s), shape {array.shape}: it needs {ndim}")
+    return array
+
+
+def _shown(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
