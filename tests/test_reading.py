@@ -231,3 +231,14 @@ def test_a_latin1_byte_that_the_reader_rejects_is_named_with_its_line(tmp_path):
     path.write_bytes("# Messung é\n".encode("latin-1") + "".join(_profile_rows()).encode())
     with pytest.raises(ValueError, match="line 1 has the byte 0xe9, which is not UTF-8"):
         tp.read(path)
+
+
+@pytest.mark.skipif(
+    not (ROOT.parent / "shared" / "data" / "topographies").is_dir(),
+    reason="the real instrument files live in ../shared/data",
+)
+def test_a_di_file_cut_short_is_one_line(tmp_path):
+    path = tmp_path / "cut.di"
+    path.write_bytes((ROOT.parent / "shared" / "data" / "topographies" / "di-1.di").read_bytes()[:100])
+    with pytest.raises(ValueError, match="without a readable data channel"):
+        tp.read(path)

@@ -145,7 +145,13 @@ def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = 
         if not_utf8 is None:
             raise
         raise InputError(f"{exc} ({not_utf8}: save the file as UTF-8)") from None
-    channel = reader.default_channel
+    try:
+        channel = reader.default_channel
+    except Exception:  # a reader that found the format's header and no data behind it
+        raise InputError(
+            f"topography file {str(path)!r} is a {reader.name()} file without a readable data channel "
+            "(cut short or damaged?)"
+        ) from None
     sizes = None if size is None else tuple(float(s) for s in np.atleast_1d(np.asarray(size, dtype=float)))
     if sizes is not None and len(sizes) != len(channel.nb_grid_pts):
         shown = spelled(repr(size), " ".join(f"{s:g}" for s in sizes))
