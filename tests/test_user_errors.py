@@ -173,3 +173,9 @@ API_MISTAKES = {
 def test_a_python_mistake_is_a_value_error_naming_it(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_a_sweep_beyond_the_free_memory_is_refused_before_computing(tmp_path, capsys):
+    argv = ["sweep", "--D", "1.3:1.7:100000", "--G", "1e-11:1e-9:100000", "--out", str(tmp_path), "--no-progress"]
+    assert main(argv) == 2
+    assert "points would need about" in capsys.readouterr().err

@@ -135,6 +135,24 @@ def _grid(text: str, name: str, log: bool):
     return np.geomspace(low, high, count) if log else np.linspace(low, high, count)
 
 
+# What one point of a sweep holds until its CSV is written: its row (a dict of eight values) and its
+# share of the result arrays.
+BYTES_PER_POINT = 1024
+
+
+def _check_memory(points: int, what: str) -> None:
+    """Refuse, before computing, a sweep whose rows would not fit in the memory free now."""
+    import os
+
+    free = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+    need = points * BYTES_PER_POINT
+    if need > free:
+        raise CommandError(
+            f"{what} = {points:.3g} points would need about {need / 2**30:.3g} GiB, and {free / 2**30:.3g} GiB "
+            "is free: sweep a coarser grid, or the grid in parts"
+        )
+
+
 def cmd_sweep(args) -> int:
     import jax
 
@@ -147,6 +165,7 @@ def cmd_sweep(args) -> int:
         jax.distributed.initialize()
     spec = load_scene(args.scene)
     D, G = _grid(args.D, "D", log=False), _grid(args.G, "G", log=True)
+    _check_memory(D.size * G.size * spec.loads.size, f"--D {args.D} × --G {args.G} × {spec.loads.size} loads")
     result = sweep(spec.scene, D, G, spec.loads, progress=args.progress)
     scales = Scales.of(spec.scene)
     load_unit, stiffness_unit = float(scales.load), float(scales.stiffness)
