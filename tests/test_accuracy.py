@@ -3,13 +3,12 @@
 import csv
 
 import numpy as np
-from helpers import CHECKPOINTS, TABLE1, make_scene, needs_shared
+from helpers import CHECKPOINTS, TABLE1, make_scene
 
 from jaxcontact.studies import _reference as reference
 from jaxcontact.studies._accuracy import _dominates, study
 
 
-@needs_shared
 def test_mpmath_reference_matches_the_conformance_vectors():
     rows = [
         r
