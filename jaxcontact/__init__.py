@@ -62,7 +62,18 @@ from .physics import (
     kogut_etsion_laws,
     size_distribution,
 )
-from .quantities import PARAMETERS, DimensionlessScene, Material, ParameterSpec, Scales, Status, Surface, status_message
+from .quantities import (
+    PARAMETERS,
+    DimensionlessScene,
+    Material,
+    ParameterSpec,
+    Scales,
+    Status,
+    Surface,
+    contact_modulus,
+    status_message,
+    tangential_contact_modulus,
+)
 
 __version__ = "0.5.0"
 
@@ -82,6 +93,8 @@ __all__ = [
     # The joint and its solve
     "Surface",
     "Material",
+    "contact_modulus",
+    "tangential_contact_modulus",
     "Scene",
     "stack_scenes",
     "table1_scene",

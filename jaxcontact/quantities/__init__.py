@@ -3,6 +3,7 @@
 per-point status codes (`Status`)."""
 
 from ._domain import PARAMETERS, ParameterSpec, implausible
+from ._pair import contact_modulus, tangential_contact_modulus
 from ._parameters import Material, Surface
 from ._scales import DimensionlessScene, Scales, nondimensionalise
 from ._status import Status, status_message
@@ -18,4 +19,6 @@ __all__ = [
     "Status",
     "status_message",
     "Surface",
+    "contact_modulus",
+    "tangential_contact_modulus",
 ]
