@@ -242,3 +242,18 @@ def test_a_di_file_cut_short_is_one_line(tmp_path):
     path.write_bytes((ROOT.parent / "shared" / "data" / "topographies" / "di-1.di").read_bytes()[:100])
     with pytest.raises(ValueError, match="without a readable data channel"):
         tp.read(path)
+
+
+@pytest.mark.skipif(
+    not (ROOT.parent / "shared" / "data" / "topographies").is_dir(),
+    reason="the real instrument files live in ../shared/data",
+)
+def test_a_di_header_damaged_where_only_the_heights_notice_is_one_line(tmp_path):
+    """Three header bytes changed (found by fuzzing): the reader opens it and fails on the heights' unit."""
+    data = bytearray((ROOT.parent / "shared" / "data" / "topographies" / "di-1.di").read_bytes())
+    for offset, value in ((144, 182), (376, 236), (383, 238)):
+        data[offset] = value
+    path = tmp_path / "damaged.di"
+    path.write_bytes(bytes(data))
+    with pytest.raises(ValueError, match="cannot be read: Unknown unit"):
+        tp.read(path)

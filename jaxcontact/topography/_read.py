@@ -180,13 +180,15 @@ def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = 
     try:
         with _quiet():
             topography = _npy_topography(path, kwargs) if reader.format() == "npy" else reader.topography(**kwargs)
+            if not topography.is_uniform:
+                spacing = np.min(np.diff(topography.positions()))
+                topography = topography.to_uniform(nb_points=int(math.ceil(topography.physical_sizes[0] / spacing)))
+            if topography.unit != "m":
+                topography = topography.to_unit("m")
+            # Readers decode lazily: a damaged header (an unknown unit) fails only when the heights are asked for.
+            topography.heights()
     except Exception as exc:
         raise InputError(f"topography file {str(path)!r} cannot be read: {_first_line(exc)}") from None
-    if not topography.is_uniform:
-        spacing = np.min(np.diff(topography.positions()))
-        topography = topography.to_uniform(nb_points=int(math.ceil(topography.physical_sizes[0] / spacing)))
-    if topography.unit != "m":
-        topography = topography.to_unit("m")
     filled = 0.0
     if topography.has_undefined_data:
         heights = topography.heights()
