@@ -182,6 +182,12 @@ def test_an_npy_file_reads_as_surfacetopographys_reader_reads_it(tmp_path, shape
     assert ours.is_periodic == theirs.is_periodic
 
 
+TOPOGRAPHIES = ROOT.parent / "shared" / "data" / "topographies"
+needs_real_files = pytest.mark.skipif(
+    not TOPOGRAPHIES.is_dir(), reason="the real instrument files live in ../shared/data"
+)
+
+
 def _profile_rows(n=400):
     """A random-walk x–z profile (m), one "x,z" row a line."""
     z = np.cumsum(np.random.default_rng(0).normal(size=n)) * 1e-8
@@ -233,24 +239,18 @@ def test_a_latin1_byte_that_the_reader_rejects_is_named_with_its_line(tmp_path):
         tp.read(path)
 
 
-@pytest.mark.skipif(
-    not (ROOT.parent / "shared" / "data" / "topographies").is_dir(),
-    reason="the real instrument files live in ../shared/data",
-)
+@needs_real_files
 def test_a_di_file_cut_short_is_one_line(tmp_path):
     path = tmp_path / "cut.di"
-    path.write_bytes((ROOT.parent / "shared" / "data" / "topographies" / "di-1.di").read_bytes()[:100])
+    path.write_bytes((TOPOGRAPHIES / "di-1.di").read_bytes()[:100])
     with pytest.raises(ValueError, match="without a readable data channel"):
         tp.read(path)
 
 
-@pytest.mark.skipif(
-    not (ROOT.parent / "shared" / "data" / "topographies").is_dir(),
-    reason="the real instrument files live in ../shared/data",
-)
+@needs_real_files
 def test_a_di_header_damaged_where_only_the_heights_notice_is_one_line(tmp_path):
     """Three header bytes changed (found by fuzzing): the reader opens it and fails on the heights' unit."""
-    data = bytearray((ROOT.parent / "shared" / "data" / "topographies" / "di-1.di").read_bytes())
+    data = bytearray((TOPOGRAPHIES / "di-1.di").read_bytes())
     for offset, value in ((144, 182), (376, 236), (383, 238)):
         data[offset] = value
     path = tmp_path / "damaged.di"
