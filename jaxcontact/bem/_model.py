@@ -36,8 +36,8 @@ class BEM(AbstractSweptModel):
       curve); 0 gives the exact tangent of the discretised contact, piecewise constant in D, G, l_min.
     - `rolloff`: the width, in modes, of the spectrum's cutoff at 2π/l_min (0: sharp, the reference's
       surfaces exactly, and results piecewise constant in l_min).
-    - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1): of the
-      constrained conjugate gradients (`bem.solve`).
+    - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1),
+      `preconditioned`: of the constrained conjugate gradients (`bem.solve`).
 
     One regime, "e"; `Solution.real_area` is the mean contact area, `Solution.a_l` NaN. Each load is
     its own solve (two for the secant) per realisation, all loads of a call in one increasing sweep
@@ -57,6 +57,7 @@ class BEM(AbstractSweptModel):
     rolloff: float = eqx.field(static=True, default=2.0)
     tolerance: float | None = eqx.field(static=True, default=None)
     max_iterations: int = eqx.field(static=True, default=2000)
+    preconditioned: bool = eqx.field(static=True, default=True)
 
     def __check_init__(self):
         check_grid_points(self.grid)
@@ -88,7 +89,8 @@ class BEM(AbstractSweptModel):
         resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
         hardness = jnp.exp(s.log_hardness) if self.plastic else None
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
-        problems = jax.vmap(lambda h: GridProblem.build(h, 1.0, 1.0, hardness, "periodic"))(heights)
+        build = GridProblem.build
+        problems = jax.vmap(lambda h: build(h, 1.0, 1.0, hardness, "periodic", self.preconditioned))(heights)
         tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
         step = self.relative_step
         sides = (-step, step) if step > 0 else (0.0,)

@@ -56,20 +56,43 @@ def _free_kernel(n: int) -> np.ndarray:
     return np.fft.rfft2(real)
 
 
+@functools.cache
+def _stiffness_kernel(n: int) -> np.ndarray:
+    """`|q|/2` on the rfft2 grid of an n × n map, the periodic compliance's inverse, with the q = 0
+    entry (where the compliance is 0) set to the smallest nonzero value, so that it is definite."""
+    kernel = _periodic_kernel(n)
+    inverse = np.where(kernel > 0, 1.0 / np.where(kernel > 0, kernel, 1.0), 0.0)
+    inverse[0, 0] = 2 * math.pi / n / 2
+    return inverse
+
+
 class Compliance(eqx.Module):
     """`u = C p` on an n × n grid (grid units above), periodic or free. Symmetric positive semidefinite
     (definite for "free"; for "periodic" its null space is the constant pressure)."""
 
     kernel: Complex[Array, "rows columns"] | Float[Array, "rows columns"]
+    stiffness: Float[Array, "n half"]
     n: int = eqx.field(static=True)
     free: bool = eqx.field(static=True)
 
     @classmethod
     def build(cls, n: int, substrate: str, dtype) -> Compliance:
+        stiffness = jnp.asarray(_stiffness_kernel(n), dtype)
         if substrate == "periodic":
-            return cls(jnp.asarray(_periodic_kernel(n), dtype), n, False)
+            return cls(jnp.asarray(_periodic_kernel(n), dtype), stiffness, n, False)
         complex_dtype = jnp.result_type(dtype, jnp.complex64)
-        return cls(jnp.asarray(_free_kernel(n), complex_dtype), n, True)
+        return cls(jnp.asarray(_free_kernel(n), complex_dtype), stiffness, n, True)
+
+    def inverse_diagonal(self):
+        """The diagonal of `inverse` (every entry alike): a pressure per displacement at one point."""
+        k = self.stiffness  # the rfft2 half: its inner columns stand for two each (n is even)
+        return (jnp.sum(k[:, 0]) + jnp.sum(k[:, -1]) + 2 * jnp.sum(k[:, 1:-1])) / self.n**2
+
+    def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:
+        """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in
+        full contact, and the constrained iteration's preconditioner on its free set (either substrate)."""
+        n = self.n
+        return jnp.fft.irfft2(jnp.fft.rfft2(displacement) * self.stiffness, s=(n, n))
 
     def __call__(self, pressure: Float[Array, "n n"]) -> Float[Array, "n n"]:
         n = self.n

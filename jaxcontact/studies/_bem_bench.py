@@ -64,6 +64,39 @@ def per_point(grid: int, contactmechanics: bool = True) -> dict:
     return out
 
 
+def iterations(grid: int, f_star=(1e-4, 3e-4, 1e-3), plain: bool = True, dtype=None) -> dict:
+    """The constrained iteration's count and seconds per load on `grid`², preconditioned and (`plain`)
+    Polonsky & Keer's: a surface resolved down to 4 grid spacings (l_min = 4L/grid, the reference's
+    D and G, synthesised in JAX), loads `f_star` (F*), the tangent; after compilation, best of 2."""
+    import jax
+    import jax.numpy as jnp
+
+    from .. import BEM, Material, Scene, Surface
+    from ..bem import solve
+
+    scene = Scene(Surface(D=D, G=G, l_min=4 * LENGTH / grid), Material(E=MODULUS, nu=0.3, H=3e8), LENGTH**2)
+    heights = BEM(grid=grid, realisations=1, rolloff=0.0).heights(scene)[0]
+    if dtype is not None:
+        heights = heights.astype(dtype)
+    loads = jnp.asarray(np.asarray(f_star) * MODULUS * LENGTH**2, heights.dtype)
+    out = {"grid": grid, "f_star": list(f_star), "device": jax.devices()[0].device_kind, "dtype": str(heights.dtype)}
+    for label, preconditioned in (("preconditioned", True), ("plain", False))[: 2 if plain else 1]:
+        times = []
+        for _ in range(3):
+            t = time.perf_counter()
+            result = jax.block_until_ready(solve(heights, LENGTH, MODULUS, loads, preconditioned=preconditioned))
+            times.append(time.perf_counter() - t)
+        out[label] = {
+            "iterations": np.asarray(result.iterations).tolist(),
+            "contact_fraction": np.asarray(result.contact_fraction).tolist(),
+            "status": np.asarray(result.status).tolist(),
+            "s_per_load": min(times[1:]) / len(f_star),
+            "compile_s": max(times[0] - min(times[1:]), 0.0),
+            "offset": np.asarray(result.offset).tolist(),
+        }
+    return out
+
+
 def memory(grid: int) -> dict:
     """The buffers XLA assigns to a solve with the secant on `grid`² (float64, periodic): its
     arguments and its temporaries, MiB (compiled, not run: `Compiled.memory_analysis`)."""
@@ -113,8 +146,10 @@ def fit_time(grid: int = 256, realisations: int = 2, loads: int = 6) -> dict:
 
 
 def run_bem_bench(grids=(256, 512, 1024), memory_grids=(1024, 2048), reference=True, progress=None) -> dict:
-    """Each grid's `per_point` (against ContactMechanics where `reference`), `memory` and `fit_time`."""
+    """Each grid's `per_point` (against ContactMechanics where `reference`) and `iterations`, `memory` and
+    `fit_time`."""
     steps = [(f"per_point_{g}", lambda g=g: per_point(g, reference)) for g in grids]
+    steps += [(f"iterations_{g}", lambda g=g: iterations(g)) for g in grids]
     steps += [(f"memory_{g}", lambda g=g: memory(g)) for g in memory_grids]
     steps.append(("fit", fit_time))
     out = {}
@@ -139,6 +174,13 @@ def format_bem_bench(r: dict) -> str:
                 f"({s.get('speedup', math.nan):.1f}x); "
                 f"K/K_CM tangent {np.round(t.get('K_over_contactmechanics', []), 4).tolist()}, "
                 f"secant {np.round(s.get('K_over_contactmechanics', []), 6).tolist()}"
+            )
+        elif key.startswith("iterations"):
+            p, q = v["preconditioned"], v["plain"]
+            fractions = ", ".join(f"{100 * f:.1f}" for f in p["contact_fraction"])
+            lines.append(
+                f"  iterations on {v['grid']}² (l_min = 4 spacings, contact {fractions} %): preconditioned "
+                f"{p['iterations']} ({p['s_per_load']:.3g} s a load), plain {q['iterations']} ({q['s_per_load']:.3g} s)"
             )
         elif key.startswith("memory"):
             lines.append(

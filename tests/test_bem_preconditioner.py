@@ -1,0 +1,58 @@
+"""The Fourier-preconditioned constrained iteration against Polonsky & Keer's plain one: the same
+solution to the tolerance, elastic, capped and on a free half-space, in a fraction of the iterations."""
+
+import functools
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxcontact import bem
+
+pytest.importorskip("SurfaceTopography")
+
+L, E = 1e-3, 1e11
+LOAD = 1e-4 * E * L * L  # 12-13 % contact on this surface
+CASES = {"elastic": ("periodic", None), "capped": ("periodic", 1e9), "free": ("free", None)}
+
+
+@functools.cache
+def _heights():
+    return jnp.asarray(bem.realisation(1.5, 1e-12, L / 32, L, 256, 0).heights())
+
+
+@functools.cache
+def _solved(case: str, preconditioned: bool):
+    substrate, hardness = CASES[case]
+    loads = jnp.array([0.5, 1.0, 4.0]) * LOAD
+    return bem.solve(_heights(), L, E, loads, hardness=hardness, substrate=substrate, preconditioned=preconditioned)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_offsets_are_the_plain_iterations_to_1e_8_of_the_rms_height(case):
+    rms = float(jnp.std(_heights()))
+    difference = np.asarray(_solved(case, True).offset) - np.asarray(_solved(case, False).offset)
+    assert np.max(np.abs(difference)) < 1e-8 * rms
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_tangent_stiffness_is_the_plain_iterations(case):
+    np.testing.assert_allclose(_solved(case, True).stiffness, _solved(case, False).stiffness, rtol=1e-8)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_contact_set_is_the_plain_iterations(case):
+    np.testing.assert_array_equal(_solved(case, True).contact_fraction, _solved(case, False).contact_fraction)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_every_load_converges(case):
+    np.testing.assert_array_equal(_solved(case, True).status, [0, 0, 0])
+
+
+def test_the_middle_load_is_at_12_percent_contact():
+    assert 0.1 < float(_solved("elastic", True).contact_fraction[1]) < 0.15
+
+
+def test_at_12_percent_contact_on_256_squared_it_takes_at_most_half_the_iterations():
+    assert int(_solved("elastic", True).iterations[1]) <= int(_solved("elastic", False).iterations[1]) // 2
