@@ -45,8 +45,9 @@ def bem_fit_rows(
 
     **Returns:** one dict per (D, seed, model, prior): `D_true`, `seed`, `model`, `prior`, `D`, `D_low`,
     `D_high` (the 95 % interval), `covered`, `G_ratio` (fitted over true G), `G_covered`, `success`,
-    `seconds`, `describes_data`; and the surface's own `D_surface`, `D_surface_low`, `D_surface_high`,
-    `G_surface_ratio`, `G_surface_covered`.
+    `on_bound` (the fit ended on a search bound, and so is not a success), `seconds`, `describes_data`;
+    and the surface's own `D_surface`, `D_surface_low`, `D_surface_high`, `G_surface_ratio`,
+    `G_surface_covered`.
     """
     import warnings
 
@@ -125,6 +126,7 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, prior
                             "G_ratio": result.values["G"] / G_true,
                             "G_covered": bool(G_low <= G_true <= G_high),
                             "success": bool(result.success),
+                            "on_bound": any("search bound" in w for w in result.warnings),
                             "describes_data": bool(result.describes_data),
                             "seconds": time.perf_counter() - t,
                             **own,
@@ -141,7 +143,7 @@ def bem_fit_table(rows) -> str:
     of D and of G; and per D the surface's own characterisation."""
     lines = [
         f"{'D':>4} {'model':>16} {'prior':>6} {'D fitted: mean (min–max)':>26} {'± (95 %)':>9} "
-        f"{'describes':>10} {'D covered':>10} {'G covered':>10}"
+        f"{'describes':>10} {'D covered':>10} {'G covered':>10} {'success':>8} {'on bound':>9}"
     ]
     for D in sorted({r["D_true"] for r in rows}):
         first = {r["seed"]: r for r in rows if r["D_true"] == D}.values()
@@ -151,7 +153,7 @@ def bem_fit_table(rows) -> str:
         lines.append(
             f"{D:>4} {'surface alone':>16} {'–':>6} {values.mean():>10.3f} ({values.min():.3f}–{values.max():.3f})"
             f"{np.nanmean(half):>9.3f} {'–':>10} {covered:>6}/{len(first)} "
-            f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)}"
+            f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)} {'–':>8} {'–':>9}"
         )
         for label in FIT_MODELS:
             for prior in sorted({r["prior"] for r in rows}):
@@ -164,6 +166,8 @@ def bem_fit_table(rows) -> str:
                     f"{np.nanmean(half) if np.isfinite(half).any() else float('nan'):>9.3f} "
                     f"{sum(r['describes_data'] for r in sel):>6}/{len(sel)} "
                     f"{sum(r['covered'] for r in sel):>6}/{len(sel)} "
-                    f"{sum(r['G_covered'] for r in sel):>6}/{len(sel)}"
+                    f"{sum(r['G_covered'] for r in sel):>6}/{len(sel)} "
+                    f"{sum(r['success'] for r in sel):>4}/{len(sel)} "
+                    f"{sum(r.get('on_bound', False) for r in sel):>5}/{len(sel)}"
                 )
     return "\n".join(lines)
