@@ -55,7 +55,7 @@ def test_arrays_are_checked_elementwise():
         (dict(interaction="both"), r"interaction = 'both' is not one of 'none', 'paper', 'series'"),
         (dict(distribution="gauss"), r"distribution = 'gauss' is not one of 'mb', 'wk'"),
         (dict(model="jzz2010", interaction="paper"), r"model 'jzz2010' has no interaction"),
-        (dict(quadrature_nodes=1), r"quadrature_nodes = 1"),
+        (dict(quadrature_nodes=1), r"GaussLegendre: nodes = 1 must be an integer in \[2, 1024\]"),
         (
             dict(quadrature="simpson"),
             r"quadrature = 'simpson' is not one of 'power-series', 'gauss-legendre', 'adaptive'",
@@ -79,7 +79,7 @@ def test_scene(kw, pattern):
     [
         (dict(max_steps=0), r"max_steps = 0 must be an integer in \[1, 10000\]"),
         (dict(max_steps=2.5), r"max_steps = 2.5 must be an integer"),
-        (dict(tolerance=0.5), r"solver_tolerance = 0.5 must be None or in \(0, 0.01\)"),
+        (dict(tolerance=0.5), r"NewtonBisection: tolerance = 0.5 must be None or in \(0, 0.01\)"),
     ],
 )
 def test_solver_settings(kw, pattern):

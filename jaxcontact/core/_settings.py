@@ -42,7 +42,7 @@ class NewtonBisection(eqx.Module):
         if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= 10_000:
             raise InputError(f"max_steps = {steps!r} must be an integer in [1, 10000]")
         if self.tolerance is not None and not 0.0 < self.tolerance < 1e-2:
-            raise InputError(f"solver_tolerance = {self.tolerance!r} must be None or in (0, 0.01)")
+            raise InputError(f"NewtonBisection: tolerance = {self.tolerance!r} must be None or in (0, 0.01)")
 
     def tolerance_for(self, dtype) -> float:
         """The tolerance in the working `dtype`."""

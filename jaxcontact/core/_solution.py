@@ -21,7 +21,7 @@ class Solution(eqx.Module):
     - `status`: int32 per point, see `jaxcontact.Status` (0 = ok).
     - `load_share`, `stiffness_share`: fraction of F and of K carried by each of the model's
       regimes, last axis ordered as `regimes` ((e, ep1, ep2, p) for "xia2024", (e, p) for
-      "jzz2010"). None when the scene does not ask for them (`Scene.regime_shares=False`).
+      "jzz2010"). None when the scene does not ask for them (`solve(..., outputs=Outputs(regime_shares=False))`).
     - `modulus`, `nominal_area`: the scene's E (Pa) and A_a (m²) that make the results
       dimensionless, shaped to broadcast against the loads (a trailing axis of 1 per load axis).
     - `regimes`: the names of the model's regimes (static).

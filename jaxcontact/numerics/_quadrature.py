@@ -123,7 +123,7 @@ class GaussLegendre(AbstractRowQuadrature):
 
     def __check_init__(self):
         if isinstance(self.nodes, bool) or not isinstance(self.nodes, int) or not 2 <= self.nodes <= 1024:
-            raise InputError(f"quadrature_nodes = {self.nodes!r} must be an integer in [2, 1024]")
+            raise InputError(f"GaussLegendre: nodes = {self.nodes!r} must be an integer in [2, 1024]")
 
     def integrate_rows(self, integrand, row_args, log_lower, log_upper):
         expanded = tuple(a[..., None] for a in row_args)
