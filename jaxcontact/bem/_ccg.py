@@ -14,8 +14,9 @@ compliance's inverse `|q|/2` (`Compliance.inverse`, two FFTs), held to zero mean
 moves: the inverse of C on the whole grid stands in for the inverse of C on the free set. Bound
 points whose gap says they should move inward then join the search set itself, so that the line
 search weighs how they press on each other (moved one by one, thousands of them in a step overshoot
-together). The iterations then barely grow with the grid: at 12-13 % contact 26, 34, 36 on 128²,
-256², 512², against 64, 110, 166 unpreconditioned (docs/validation.md).
+together). The iterations then grow with the grid about as n^0.6 where the plain ones grow as n: 36,
+133, 229, 338 at 6-16 % contact on 512², 1024², 2048², 4096², against 95, 426, 851, 1168
+(docs/validation.md).
 
 Where nearly every contact point sits at the cap (the free set below 1 % of the contact area, e.g. a
 rough surface whose elastic pixel pressures exceed H fifty-fold), the CG has nothing left to
@@ -119,12 +120,12 @@ def contact_cg(
 
     passes = _LOAD_PASSES if capped else 1
 
-    def search(gap, free):
-        """The gap on the free set, preconditioned (the free set's load held: mean zero on it)."""
+    def search(gap, moving):
+        """The gap on the points that move, preconditioned (their load held: mean zero on them)."""
         if not preconditioned:
             return gap
-        z = compliance.inverse(jnp.where(free, gap, 0.0))
-        return z - _masked_mean(free, z)
+        z = compliance.inverse(jnp.where(moving, gap, 0.0))
+        return z - _masked_mean(moving, z)
 
     def residual_of(gap, pressure):
         free = (pressure > 0) & (pressure < hardness)
@@ -134,30 +135,20 @@ def contact_cg(
     def cg_step(state: ContactState, gap, free, norm):
         p, t = state.pressure, state.direction
         # Bound points whose gap says they should move inward: penetration where p = 0, separation
-        # where p = H. They join the free set; the conjugacy restarts.
+        # where p = H. They join the free set; the conjugacy restarts. Preconditioned, they join the
+        # search set at once, so that the line search weighs how they press on each other.
         wrong = ((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0))
-        if preconditioned:
-            # The wrong points join the search set, so that the line search weighs their interaction.
-            moving = free | wrong
-            restart = state.restart | jnp.any(wrong)
-            beta = jnp.where(restart | (state.previous_norm <= 0), 0.0, norm / state.previous_norm)
-            z = compliance.inverse(jnp.where(moving, gap, 0.0))
-            t = jnp.where(moving, z - _masked_mean(moving, z) + beta * t, 0.0)
-            r = compliance(t)
-            r = r - _masked_mean(moving, r)
-            curvature = _masked_sum(moving, r * t)
-            tau = jnp.where(curvature > 0, _masked_sum(moving, gap * t) / jnp.where(curvature > 0, curvature, 1.0), 0.0)
-            moved = jnp.where(moving, p - tau * t, p)
-            return _with_total(moved, total, hardness, passes), t, jnp.any(wrong)
-        beta = jnp.where(state.restart | (state.previous_norm <= 0), 0.0, norm / state.previous_norm)
-        t = jnp.where(free, gap + beta * t, 0.0)
+        moving = free | wrong if preconditioned else free
+        restart = state.restart | (jnp.any(wrong) if preconditioned else False) | (state.previous_norm <= 0)
+        beta = jnp.where(restart, 0.0, norm / state.previous_norm)
+        t = jnp.where(moving, search(gap, moving) + beta * t, 0.0)
         r = compliance(t)
-        r = r - _masked_mean(free, r)
-        curvature = _masked_sum(free, r * t)
-        tau = jnp.where(curvature > 0, _masked_sum(free, gap * t) / jnp.where(curvature > 0, curvature, 1.0), 0.0)
-        moved = jnp.where(free, p - tau * t, p)
-        step_size = jnp.where(tau > 0, tau, 1.0)
-        moved = jnp.where(wrong, p - step_size * gap, moved)
+        r = r - _masked_mean(moving, r)
+        curvature = _masked_sum(moving, r * t)
+        tau = jnp.where(curvature > 0, _masked_sum(moving, gap * t) / jnp.where(curvature > 0, curvature, 1.0), 0.0)
+        moved = jnp.where(moving, p - tau * t, p)
+        if not preconditioned:
+            moved = jnp.where(wrong, p - jnp.where(tau > 0, tau, 1.0) * gap, moved)
         return _with_total(moved, total, hardness, passes), t, jnp.any(wrong)
 
     def step(state: ContactState) -> ContactState:
