@@ -193,16 +193,34 @@ def test_a_stylus_profile_becomes_a_scene_that_run_takes(tmp_path, capsys):
     assert (tmp_path / "r" / "results.csv").is_file()
 
 
-def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(tmp_path, capsys):
-    data = tmp_path / "map.txt"
+@pytest.fixture(scope="module")
+def scan_run(tmp_path_factory):
+    """`run --topography` on a synthetic 512² scan: the output folder and the JSON rows."""
+    import contextlib
+    import io
+
+    folder = tmp_path_factory.mktemp("scan")
+    data = folder / "map.txt"
     np.savetxt(data, tp.areal_map(1.5, 1e-9, 1e-5, 512, seed=2).heights())
-    argv = ["run", "--topography", str(data), "--size", "1e-5", "1e-5", "--out", str(tmp_path / "o")]
-    assert main([*argv, "--format", "json", "--no-progress"]) == 0
-    rows = [row for row in json.loads(capsys.readouterr().out)["rows"] if row["status"] == "ok"]
-    positive = [row for row in rows if row["K_N_per_m"] > 0]
+    argv = ["run", "--topography", str(data), "--size", "1e-5", "1e-5", "--out", str(folder / "o")]
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        assert main([*argv, "--format", "json", "--no-progress"]) == 0
+    return folder / "o", json.loads(out.getvalue())["rows"]
+
+
+def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(scan_run):
+    folder, rows = scan_run
+    positive = [row for row in rows if row["status"] == "ok" and row["K_N_per_m"] > 0]
     assert len(positive) > 10
     assert all(row["K_lower_95_N_per_m"] < row["K_N_per_m"] < row["K_upper_95_N_per_m"] for row in positive)
-    assert (tmp_path / "o" / "stiffness_band.png").is_file()
+    assert (folder / "stiffness_band.png").is_file()
+
+
+@pytest.mark.parametrize("model", ["xia2024", "jzz2010", "gw"])
+def test_each_other_models_value_has_its_own_status_beside_it(scan_run, model):
+    """A value where the status says ok, and a status that says why where there is none."""
+    _, rows = scan_run
+    assert all((row[f"status_{model}"] == "ok") == (row[f"K_{model}_N_per_m"] is not None) for row in rows)
 
 
 @needs_topographies

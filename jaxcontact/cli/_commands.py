@@ -46,11 +46,15 @@ def cmd_run(args) -> int:
     )
     rows = solution_rows(solution)
     if band is not None:
+        from ..quantities import status_message
         from ._topography_run import zero_note
 
+        # Each other model's K with its own status beside it: a NaN says why.
+        others = {name: (np.where(s.ok, s.stiffness, np.nan), np.asarray(s.status)) for name, s in others.items()}
         for k, (row, lower, upper) in enumerate(zip(rows, band.lower, band.upper)):
             row["K_lower_95_N_per_m"], row["K_upper_95_N_per_m"] = float(lower), float(upper)
-            row.update({f"K_{name}_N_per_m": float(K[k]) for name, K in others.items()})
+            for name, (K, status) in others.items():
+                row[f"K_{name}_N_per_m"], row[f"status_{name}"] = float(K[k]), status_message(status[k])
         notes[1:1] = [n for n in [zero_note(spec.scene.model.name, solution)] if n]
     if spec.approach_reference is not None:  # only scenes that ask for the approach compute it
         for row, extra in zip(rows, _approach_rows(spec)):
@@ -65,7 +69,8 @@ def cmd_run(args) -> int:
     if band is not None:
         from ._surface_commands import plot_band
 
-        files.append(plot_band(band, spec.title, out / "stiffness_band.png", others, spec.scene.model.name))
+        curves = {name: K for name, (K, _) in others.items()}
+        files.append(plot_band(band, spec.title, out / "stiffness_band.png", curves, spec.scene.model.name))
     choices = ", ".join(f"{k} {v!r}" for k, v in spec.scene.model.options().items())
     flagged = flagged_summary(solution.status)
     plastic = int(np.sum(solution.fully_plastic))
@@ -89,8 +94,8 @@ def _columns(rows) -> tuple[str, ...]:
     usual = ("F_N", "F_star", "a_l_m2", "K_N_per_m", "K_star", "status")
     if not rows or "K_lower_95_N_per_m" not in rows[0]:
         return usual
-    extra = [c for c in rows[0] if c.startswith("K_") and c not in usual]
-    return ("F_N", "F_star", "K_N_per_m", *extra, "status")
+    extra = [c for c in rows[0] if (c.startswith("K_") or c.startswith("status_")) and c not in usual]
+    return ("F_N", "F_star", "K_N_per_m", "status", *extra)
 
 
 def _approach_rows(spec):

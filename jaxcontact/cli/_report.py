@@ -83,9 +83,12 @@ def _status_cell(row: dict) -> str:
 
 
 def _header(column: str) -> str:
-    """`K_<what>_N_per_m` as `K <what> (N/m)`; other columns by their own name."""
+    """`K_<what>_N_per_m` as `K <what> (N/m)`, `status_<model>` as `<model> status`; other columns by
+    their own name."""
     if column.startswith("K_") and column.endswith("_N_per_m"):
         return f"K {column[2:-8].replace('_', ' ')} (N/m)"
+    if column.startswith("status_"):
+        return f"{column[7:]} status"
     return column
 
 

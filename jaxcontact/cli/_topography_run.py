@@ -62,7 +62,7 @@ def zero_note(name: str, solution) -> str | None:
 
 def topography_run(spec, args):
     """The scene of `spec` on the characterised surface with the chosen model and material, K(F)'s 95 %
-    band, the other models' K at the same loads, and notes (one line each)."""
+    band, the other models' solutions at the same loads (by name), and notes (one line each)."""
     from ..core import solve
     from ..models import MODELS
     from ..quantities import Surface
@@ -86,12 +86,7 @@ def topography_run(spec, args):
     notes += [note for note in (zero_note(k, solution) for k, solution in others.items()) if note]
     notes += [f"{k}: not compared: {why}" for k, why in NOT_COMPARED.items() if k != model]
     spec = dataclasses.replace(spec, scene=scene, title=title)
-    return (
-        spec,
-        band,
-        {k: np.where(np.asarray(s.ok), np.asarray(s.stiffness), np.nan) for k, s in others.items()},
-        notes,
-    )
+    return spec, band, others, notes
 
 
 OVERRIDES = ("model", "l_min", "modulus", "poisson", "hardness", "area")
