@@ -479,3 +479,16 @@ def test_a_fit_within_one_chi2_of_the_lowest_point_it_evaluated_has_not_stalled(
 
     objective = _evaluated_linear()
     assert stalled(objective, objective.loss(objective.away(0.5)), 2) is None
+
+
+def test_a_rivals_delta_chi2_is_measured_in_the_loss_the_starts_were_ranked_by():
+    """Two starts 0.2 apart in D: the rival's Δχ² is 2N (loss_rival − loss_best) / s², never negative."""
+    from fitting._parameters import resolve
+    from fitting._statistics import rival_optima
+
+    params = resolve(("D", "G"))
+    u_all = np.array([[p.u_from_stat(s) for p, s in zip(params, stat)] for stat in ([1.4, -23.0], [1.6, -23.0])])
+    result = {"covariance": np.diag([1e-4, 1e-2])}
+    losses = np.array([0.010, 0.0101])
+    warnings = rival_optima(params, u_all, 0, result, losses, 30, s2=0.001)
+    assert "(Δχ² = 6.00)" in warnings[0]
