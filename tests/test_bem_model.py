@@ -174,3 +174,25 @@ def test_the_studys_surface_map_is_the_surface_the_model_solves():
     heights = surface_map(scene, model).heights()
     direct = bem.solve(jnp.asarray(heights), L, E, jnp.asarray(LOADS))
     np.testing.assert_allclose(np.asarray(jc.solve(scene, LOADS).stiffness), np.asarray(direct.stiffness), rtol=1e-6)
+
+
+@pytest.fixture(scope="module")
+def scale_row():
+    """The scale study's row at D = 1.5, L/l_min = 16 (64², 2 realisations), and its scene."""
+    from jaxcontact.studies._scale import scale_rows
+
+    scene = make_scene(**BEM_SETTING)
+    return scale_rows(scene, Ds=(1.5,), divisions=(16,), realisations=2)[0], scene
+
+
+def test_the_scale_studys_bem_is_the_bem_models_mean_over_its_realisations(scale_row):
+    row, scene = scale_row
+    at = eqx.tree_at(lambda s: s.surface.l_min, scene, jnp.asarray(L / 16))
+    model = jc.BEM(grid=64, realisations=2, rolloff=0.0)
+    K = float(jc.solve(at.with_model(model), jnp.asarray([row["F_N"]])).stiffness[0])
+    np.testing.assert_allclose(row["K_bem_N_per_m"], K, rtol=1e-6)
+
+
+def test_the_scale_studys_band_holds_the_ratio_to_the_mean(scale_row):
+    row, _ = scale_row
+    assert row["ratio_persson_low"] < row["ratio_persson"] < row["ratio_persson_high"]
