@@ -27,7 +27,7 @@ from jaxcontact.numerics import float_array
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
 from ._residuals import residuals_and_status
-from ._statistics import NOTHING_DETERMINED
+from ._statistics import NOTHING_DETERMINED, bounds_reached, nothing_determined
 
 
 @dataclasses.dataclass(frozen=True)
@@ -268,15 +268,14 @@ def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time)
                     ci95[q.name][c] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
                 found = combinations(fitted, JTJ / s2)
                 determined[c] = [f.determined for f in found]
-                if not any(determined[c]):
+                if nothing_determined(found):
                     notes.append(NOTHING_DETERMINED)
                     unusable[c] = True
                 elif not all(determined[c]):
                     notes.append("the curve leaves a combination of the parameters open (see `determined`)")
-        step = np.linalg.lstsq(J[c][used], -r[c][used], rcond=None)[0] if n else np.zeros(p)
-        bounds = [q.bound_reached(stat[c, i], float(step[i])) for i, q in enumerate(fitted)]
-        unusable[c] |= any(bounds)
-        notes += [b for b in bounds if b]
+        bounds = bounds_reached(fitted, stat[c], r[c][used], J[c][used])
+        unusable[c] |= bool(bounds)
+        notes += bounds
         warnings.append(tuple(notes))
     success = (k < max_iter) & np.isfinite(loss) & (ok.sum(axis=1) > p) & ~unusable
     return BatchResult(

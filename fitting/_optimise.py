@@ -159,14 +159,14 @@ def run_bfgs(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
     return Outcome(sol.x, objective.loss(sol.x), int(sol.nit), converged)
 
 
-def _gauss_newton(r, J):
+def gauss_newton(r, J):
     """The Gauss–Newton step for residuals `r` with Jacobian `J`."""
     return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
 def _gauss_newton_step(objective: Objective, u) -> float:
     """The largest component of the Gauss–Newton step from `u`, relative to `1 + |u|`."""
-    step = _gauss_newton(*objective(u))
+    step = gauss_newton(*objective(u))
     return float(np.max(np.abs(step) / (1.0 + np.abs(u))))
 
 
@@ -185,7 +185,7 @@ def settled(objective: Objective, u) -> bool:
     rss = float(r @ r)
     if dof <= 0 or not rss > 0 or not np.all(np.isfinite(J)):
         return False
-    step = _gauss_newton(r, J)
+    step = gauss_newton(r, J)
     explained = float(np.sum((J @ step) ** 2))
     return explained < objective.settle * rss / dof
 

@@ -15,6 +15,7 @@ from scipy import special
 import jaxcontact as jc
 
 from ._identifiability import combinations, report
+from ._optimise import gauss_newton
 from ._parameters import FitParameter
 from ._residuals import evaluated
 
@@ -71,6 +72,18 @@ def rival_optima(params, u_all, best, result, losses, n_points: int, s2: float) 
     ]
 
 
+def bounds_reached(params, stat, r, J) -> list[str]:
+    """The warnings of the parameters whose optimum `stat` is on a search bound
+    (`FitParameter.bound_reached`, with the Gauss–Newton step of the residuals `r`, Jacobian `J`)."""
+    step = gauss_newton(r, J) if r.size else np.zeros(len(params))
+    return [w for q, s, d in zip(params, stat, step) if (w := q.bound_reached(float(s), float(d)))]
+
+
+def nothing_determined(found) -> bool:
+    """Whether the curve's Fisher combinations `found` (none where no information was formed) fix none."""
+    return bool(found) and not any(c.determined for c in found)
+
+
 def inner_bounds(p: FitParameter):
     lo, hi = p.stat_bounds
     return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
@@ -121,9 +134,8 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
             )
     else:
         warnings.append(f"{n} usable points for {p} parameters: no uncertainty can be estimated")
-    step = np.linalg.lstsq(J, -r_used, rcond=None)[0] if n else np.zeros(p)
     t = special.stdtrit(dof, 0.975) if dof > 0 else math.nan  # Student-t quantile (scipy.stats costs 1 s to import)
-    values, stderr, ci95, bounds = {}, {}, {}, []
+    values, stderr, ci95 = {}, {}, {}
     for i, q in enumerate(params):
         s, se = float(stat_hat[i]), math.sqrt(covariance[i, i]) if np.isfinite(covariance[i, i]) else math.nan
         values[q.name] = float(q.from_stat(s))
@@ -132,14 +144,12 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
             lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
         # A linear coordinate's interval stays inside the parameter's domain (D in (1, 2)).
         ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
-        on_bound = q.bound_reached(s, float(step[i]))
-        if on_bound:
-            bounds.append(on_bound)
+    bounds = bounds_reached(params, stat_hat, r_used, J)
     warnings += bounds
     found = combinations(params, information) if np.all(np.isfinite(information)) else ()
     if any(not c.determined for c in found):
         warnings.append(report(params, found))
-    if found and not any(c.determined for c in found):
+    if nothing_determined(found):
         warnings.append(NOTHING_DETERMINED)
     if condition > 1e8:
         warnings.append(f"the Gauss–Newton matrix is ill-conditioned (condition number {condition:.3g})")
@@ -164,7 +174,7 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
         residuals=residuals,
         n_used=n,
         describes_data=not misfit,
-        usable=not bounds and not (found and not any(c.determined for c in found)),
+        usable=not bounds and not nothing_determined(found),
         identifiability=found,
         s2=s2,
         used=e.used,

@@ -138,8 +138,9 @@ def contact_cg(
         # where p = H. They join the free set; the conjugacy restarts. Preconditioned, they join the
         # search set at once, so that the line search weighs how they press on each other.
         wrong = ((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0))
+        any_wrong = jnp.any(wrong)
         moving = free | wrong if preconditioned else free
-        restart = state.restart | (jnp.any(wrong) if preconditioned else False) | (state.previous_norm <= 0)
+        restart = state.restart | (any_wrong if preconditioned else False) | (state.previous_norm <= 0)
         beta = jnp.where(restart, 0.0, norm / state.previous_norm)
         t = jnp.where(moving, search(gap, moving) + beta * t, 0.0)
         r = compliance(t)
@@ -149,7 +150,7 @@ def contact_cg(
         moved = jnp.where(moving, p - tau * t, p)
         if not preconditioned:
             moved = jnp.where(wrong, p - jnp.where(tau > 0, tau, 1.0) * gap, moved)
-        return _with_total(moved, total, hardness, passes), t, jnp.any(wrong)
+        return _with_total(moved, total, hardness, passes), t, any_wrong
 
     def step(state: ContactState) -> ContactState:
         p = state.pressure

@@ -24,8 +24,6 @@ from ._operator import SUBSTRATES, Compliance
 from ._solver import secant_stiffness
 from ._tangent import frozen_solution
 
-# Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
-FULL_CONTACT = CLOSED_INTERFACE
 # The iteration stops when every gap condition holds to this fraction of the heights' rms.
 DEFAULT_TOLERANCE = {np.dtype(np.float64): 1e-9, np.dtype(np.float32): 1e-5}
 # A load within this ratio of the last (a secant's other side) starts mostly from its pressure.
@@ -170,7 +168,7 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
     )
     found = state.pressure
     active, plastic = (found > 0) & (found < problem.cap), found >= problem.cap
-    closed = jnp.mean(found > 0) >= FULL_CONTACT
+    closed = jnp.mean(found > 0) >= CLOSED_INTERFACE
     # A closed interface (C on every point is singular: the periodic q = 0 mode) or one with no
     # elastic point (the tangent is 0) has no linear problem to differentiate: solve a finite stand-in
     # (the highest point alone) with the inputs held, so that the flagged load's zero cotangent
@@ -199,6 +197,17 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
             Status.OK,
         ).astype(jnp.int32),
     )
+
+
+def checked_status(status, stiffnesses, finite=()):
+    """`status` with each OK point whose `stiffnesses` are not finite and positive, or whose other
+    values `finite` are not finite, made `NOT_CONVERGED`: a number with status OK is a number."""
+    good = jnp.ones(jnp.shape(status), bool)
+    for value in stiffnesses:
+        good &= jnp.isfinite(value) & (value > 0)
+    for value in finite:
+        good &= jnp.isfinite(value)
+    return jnp.where((status == Status.OK) & ~good, Status.NOT_CONVERGED, status)
 
 
 def stand_in_loads(loads, default):
@@ -260,11 +269,7 @@ def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_it
         status = jnp.where(status == Status.OK, jnp.max(side["status"], axis=0), status)
         rise = jnp.where(status == Status.OK, side["offset"][2] - side["offset"][0], 1.0)
         secant = secant_stiffness(loads, step, rise * problem.scale)
-    # The last guard: a value with status OK is a finite positive stiffness.
-    finite = jnp.isfinite(out["stiffness"]) & (out["stiffness"] > 0) & jnp.isfinite(out["offset"])
-    if secant is not None:
-        finite &= jnp.isfinite(secant) & (secant > 0)
-    status = jnp.where((status == Status.OK) & ~finite, Status.NOT_CONVERGED, status)
+    status = checked_status(status, (out["stiffness"],) + (() if secant is None else (secant,)), (out["offset"],))
     ok = status == Status.OK
     return ContactSolution(
         loads=loads,

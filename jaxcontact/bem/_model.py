@@ -15,7 +15,7 @@ from ..models import AbstractSweptModel, JointResponse, PointResult
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration
-from ._contact import DEFAULT_TOLERANCE, GridProblem, stand_in_loads, sweep_sides
+from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, stand_in_loads, sweep_sides
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights
@@ -104,9 +104,7 @@ class BEM(AbstractSweptModel):
                 stiffness = secant_stiffness(loads, step, jnp.where(status == Status.OK, rise, 1.0))
             else:
                 stiffness = out["stiffness"][0] * problem.stiffness_unit
-            finite = jnp.isfinite(stiffness) & (stiffness > 0)
-            status = jnp.where((status == Status.OK) & ~finite, Status.NOT_CONVERGED, status)
-            return stiffness, jnp.mean(out["contact_fraction"], axis=0), status
+            return stiffness, jnp.mean(out["contact_fraction"], axis=0), checked_status(status, (stiffness,))
 
         def curve(F_star) -> PointResult:
             loads, valid = stand_in_loads(F_star, 1e-4)

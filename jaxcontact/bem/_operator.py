@@ -83,11 +83,6 @@ class Compliance(eqx.Module):
         complex_dtype = jnp.result_type(dtype, jnp.complex64)
         return cls(jnp.asarray(_free_kernel(n), complex_dtype), stiffness, n, True)
 
-    def inverse_diagonal(self):
-        """The diagonal of `inverse` (every entry alike): a pressure per displacement at one point."""
-        k = self.stiffness  # the rfft2 half: its inner columns stand for two each (n is even)
-        return (jnp.sum(k[:, 0]) + jnp.sum(k[:, -1]) + 2 * jnp.sum(k[:, 1:-1])) / self.n**2
-
     def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:
         """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in
         full contact, and the constrained iteration's preconditioner on its free set (either substrate)."""

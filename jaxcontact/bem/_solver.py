@@ -24,8 +24,6 @@ from ..quantities import Status
 from ._cache import ResultCache
 
 SUBSTRATES = ("periodic", "free")
-# Past this contact fraction the interface is closed: a flat has no finite stiffness left to measure.
-FULL_CONTACT = CLOSED_INTERFACE
 
 
 class BEMSettings(eqx.Module):
@@ -107,7 +105,7 @@ def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
         return dict(
             stiffness=math.nan, offset=math.nan, fraction=fraction, status=Status.NOT_CONVERGED, iterations=iterations
         )
-    if fraction >= FULL_CONTACT:
+    if fraction >= CLOSED_INTERFACE:
         return dict(
             stiffness=math.nan,
             offset=float(centre.offset),
