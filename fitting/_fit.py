@@ -225,6 +225,7 @@ def fit(
         information=information,
         prior=None if gaussian is None else gaussian.source,
         observables=data.columns,
+        on_bound=result["bounds"],
     )
 
 

@@ -46,8 +46,9 @@ class Posterior:
     predicted K over the samples); `times` (s: `start`, the least-squares start; `adaptation`, with its
     compilation; the sampler's `compilation`; `sampling`, the compiled run); `describes_data` (the
     least-squares fit's verdict: where False, the posterior is that of a model the data reject, and
-    is shown only with that caveat); `success` (the model describes the data, divergent transitions
-    are at most `MAX_DIVERGENT_SHARE` of the draws, and every R-hat is at most `MAX_RHAT`);
+    is shown only with that caveat); `success` (the model describes the data, its least-squares
+    optimum is on no search bound (there the bounds, not the data, cut the posterior off), divergent
+    transitions are at most `MAX_DIVERGENT_SHARE` of the draws, and every R-hat is at most `MAX_RHAT`);
     `warnings` (why not).
     """
 
@@ -146,8 +147,8 @@ def sample(
     thinned, through which the predicted K band is drawn).
 
     **Returns:** a `Posterior`. The chains start at the least-squares (or MAP) estimate of `fitting.fit`;
-    `Posterior.success` is False, with a warning, for a model the data reject, for divergent draws
-    above 1 % and for R-hat above 1.01.
+    `Posterior.success` is False, with a warning, for a model the data reject, for a least-squares
+    optimum on a search bound, for divergent draws above 1 % and for R-hat above 1.01.
     """
     from ._fit import fit, model_stiffness
 
@@ -197,6 +198,8 @@ def sample(
         warnings.append(
             "the least-squares fit says the model does not describe these data: the posterior of a rejected model"
         )
+    cut = "the least-squares optimum is on a search bound, where the posterior is cut off"
+    warnings += [f"{cut}: {w}" for w in start.on_bound]
     if chains_.divergences > MAX_DIVERGENT_SHARE * chains * draws:
         warnings.append(
             f"{chains_.divergences} of {chains * draws} draws are divergent (more than {MAX_DIVERGENT_SHARE:.0%}): "

@@ -32,7 +32,8 @@ class FitResult:
     `fitting.Profile` where asked for); `information` (with a prior: by name, the standard errors of
     the prior alone, the curve alone and both, and the curve's share of the information); `prior`
     (where the prior came from, or None); `observables` (what was fitted: "stiffness", "approach" or both;
-    with an approach curve the loss is over residuals divided by each observable's σ).
+    with an approach curve the loss is over residuals divided by each observable's σ); `on_bound` (the
+    warnings of the parameters whose optimum is on a search bound, also among `warnings`).
     """
 
     params: tuple[str, ...]
@@ -58,6 +59,7 @@ class FitResult:
     information: dict = dataclasses.field(default_factory=dict)
     prior: str | None = None
     observables: tuple[str, ...] = ("stiffness",)
+    on_bound: tuple[str, ...] = ()
 
     def summary(self) -> str:
         lines = [

@@ -175,6 +175,7 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
         n_used=n,
         describes_data=not misfit,
         usable=not bounds and not nothing_determined(found),
+        bounds=tuple(bounds),
         identifiability=found,
         s2=s2,
         used=e.used,

@@ -90,16 +90,21 @@ def test_a_well_determined_posterior_is_a_success(seed_model):
 
 
 @pytest.fixture(scope="module")
-def constant_curve(seed_model):
-    """The same loads with one stiffness for all: a curve the model cannot describe."""
+def steep_curve(seed_model):
+    """The same loads with K ∝ F^1.5: steeper than any D < 2 gives, so that the model does not describe
+    it and its least-squares optimum is on D's and G's upper search bounds."""
     _, _, loads, _ = seed_model
-    K = np.full(loads.size, 1e9) * np.exp(0.01 * np.random.default_rng(1).normal(size=loads.size))
+    K = 1e9 * (loads / loads[0]) ** 1.5 * np.exp(0.01 * np.random.default_rng(1).normal(size=loads.size))
     return fitting.sample(loads, K, make_scene(**WRONG_START), chains=4, draws=250, warmup=200, seed=0, band_samples=40)
 
 
-def test_the_posterior_of_a_rejected_model_is_not_a_success(constant_curve):
-    assert not constant_curve.success
+def test_the_posterior_of_a_rejected_model_is_not_a_success(steep_curve):
+    assert not steep_curve.success
 
 
-def test_the_posterior_of_a_rejected_model_says_so(constant_curve):
-    assert "(of a model that does not describe the data)" in constant_curve.summary()
+def test_the_posterior_of_a_rejected_model_says_so(steep_curve):
+    assert "(of a model that does not describe the data)" in steep_curve.summary()
+
+
+def test_the_posterior_of_an_optimum_on_a_search_bound_names_the_bound(steep_curve):
+    assert any("D = 2 is on its upper search bound 2" in w for w in steep_curve.warnings), steep_curve.warnings

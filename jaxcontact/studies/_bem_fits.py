@@ -126,7 +126,7 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, prior
                             "G_ratio": result.values["G"] / G_true,
                             "G_covered": bool(G_low <= G_true <= G_high),
                             "success": bool(result.success),
-                            "on_bound": any("search bound" in w for w in result.warnings),
+                            "on_bound": bool(result.on_bound),
                             "describes_data": bool(result.describes_data),
                             "seconds": time.perf_counter() - t,
                             **own,
