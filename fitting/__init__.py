@@ -1,4 +1,4 @@
-"""fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
+"""jaxcontact.fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
 
 `fit(loads, stiffness, scene, params=("D", "G"), method="bfgs", prior=None)` returns a `FitResult`
 with estimates, standard errors, 95 % intervals, correlations and what the curve determines;

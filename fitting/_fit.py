@@ -2,7 +2,7 @@
 
 The loss is on log stiffness (relative errors, as measurement noise on K usually is):
 `r_i = ln K_model(F_i; θ) - ln K_i`. Several starts, spread over the parameter bounds, are
-optimised one after another (scipy's optimisers on the host, `fitting._optimise`, each call one
+optimised one after another (scipy's optimisers on the host, `jaxcontact.fitting._optimise`, each call one
 run of the compiled model and its Jacobian) and the best is kept. Uncertainty is the
 Gauss–Newton covariance at the optimum, `s² (JᵀJ)⁻¹` with `s² = Σr²/(N - p)`, formed in
 statistical coordinates (D and ν linear; G, E, H, l_min, area logarithmic), with Student-t 95 %

@@ -1,6 +1,6 @@
 """NUTS through blackjax (the `bayes` extra): window adaptation, then several chains in one compiled scan.
 
-Generic over the log density: `fitting._posterior` gives it the model's, the tests a Gaussian's.
+Generic over the log density: `jaxcontact.fitting._posterior` gives it the model's, the tests a Gaussian's.
 """
 
 from __future__ import annotations

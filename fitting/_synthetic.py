@@ -51,7 +51,7 @@ def table1_comments() -> tuple[str, ...]:
         f"A_a = {v['area']:g} m^2, l_min = {v['l_min']:g} m), 40 loads log-spaced over F* = 1e-10 ... 1e-4, "
         "stiffness multiplied",
         f"by exp(0.05 N(0,1)) (5 % log-normal noise), numpy default_rng seed {TABLE1_SEED}.",
-        "Regenerate with: python -c 'from fitting._synthetic import write_table1; write_table1()'",
+        "Regenerate with: python -c 'from jaxcontact.fitting._synthetic import write_table1; write_table1()'",
     )
 
 

@@ -9,9 +9,8 @@ from helpers import SEC51, TABLE1, make_scene, scipy_approach
 from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
 from helpers import WRONG_START as START
 
-import fitting
 import jaxcontact as jc
-from jaxcontact import InputError
+from jaxcontact import InputError, fitting
 from jaxcontact.numerics import x64
 
 LOADS = np.geomspace(2.2, 2200.0, 12)

@@ -22,19 +22,31 @@ LAYERS = (
     ("applications", "topography"),
     ("bem",),
     ("<root>",),
+    ("fitting",),
     ("studies",),
     ("cli",),
 )
 RANK = {package: rank for rank, packages in enumerate(LAYERS) for package in packages}
 SIDEWAYS = {("bem", "topography")}
-PACKAGES = ("jaxcontact", "fitting")
+# Each installed package and its folder: `fitting/` installs as `jaxcontact.fitting` (pyproject's package-dir).
+FOLDERS = {"jaxcontact.fitting": ROOT / "fitting", "jaxcontact": ROOT / "jaxcontact"}
 MAX_LINES = 300
 
 
+def _path(module: str) -> pathlib.Path:
+    """Where `module` lies, without the suffix."""
+    for package, folder in FOLDERS.items():
+        if module == package or module.startswith(package + "."):
+            return folder.joinpath(*module.split(".")[package.count(".") + 1 :])
+    return ROOT.joinpath(*module.split("."))
+
+
 def _modules():
-    for package in PACKAGES:
-        for path in sorted((ROOT / package).rglob("*.py")):
-            parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    for package, folder in FOLDERS.items():
+        for path in sorted(folder.rglob("*.py")):
+            if package == "jaxcontact" and path.is_relative_to(FOLDERS["jaxcontact.fitting"]):
+                continue
+            parts = [*package.split("."), *path.relative_to(folder).with_suffix("").parts]
             is_package = parts[-1] == "__init__"
             if is_package:
                 parts = parts[:-1]
@@ -51,11 +63,11 @@ def _imports(name: str, path: pathlib.Path, is_package: bool) -> set[str]:
             target = ".".join(base + ([node.module] if node.module else []))
             for alias in node.names:
                 sub = f"{target}.{alias.name}"
-                is_module = (ROOT / (sub.replace(".", "/") + ".py")).exists() or (ROOT / sub.replace(".", "/")).is_dir()
+                is_module = _path(sub).with_suffix(".py").exists() or _path(sub).is_dir()
                 found.add(sub if is_module else target)
         elif isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
-    return {m for m in found if m.split(".")[0] in PACKAGES}
+    return {m for m in found if m.split(".")[0] == "jaxcontact"}
 
 
 MODULES = {name: (path, is_package) for name, path, is_package in _modules()}
@@ -156,7 +168,11 @@ def test_the_toy_model_is_written_with_exported_names_only():
 
 def test_fitting_uses_the_public_faces_only():
     private = sorted(
-        t for m, ts in GRAPH.items() if m.startswith("fitting") for t in ts if "._" in t and t.startswith("jaxcontact")
+        t
+        for m, ts in GRAPH.items()
+        if m.startswith("jaxcontact.fitting")
+        for t in ts
+        if "._" in t and not t.startswith("jaxcontact.fitting")
     )
     assert private == []
 
@@ -194,3 +210,21 @@ STALE_NAMES = (
 def test_no_docstring_or_message_names_a_moved_04_name(name):
     sources = [*(ROOT / "jaxcontact").rglob("*.py"), *(ROOT / "fitting").rglob("*.py")]
     assert [str(p.relative_to(ROOT)) for p in sources if name in p.read_text()] == []
+
+
+def test_the_wheel_installs_jaxcontact_alone():
+    """pyproject's package list is every folder of the tree (data folders included, as setuptools
+    asks), each under `jaxcontact`: no top-level `fitting` on a user's path."""
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+
+    listed = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+    folders = {
+        ".".join([*package.split("."), *path.relative_to(folder).parts])
+        for package, folder in FOLDERS.items()
+        for path in [folder, *folder.rglob("*")]
+        if path.is_dir() and path.name != "__pycache__"
+    }
+    assert sorted(listed) == sorted(folders)

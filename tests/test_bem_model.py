@@ -123,7 +123,7 @@ def test_plasticity_lowers_the_stiffness(scene):
 def test_a_fit_to_its_own_curve_recovers_D_and_G(scene):
     """Noiseless, one realisation on 64²: the model fitted to its own curve (as users call the fit)
     returns its D and G."""
-    import fitting
+    from jaxcontact import fitting
 
     truth = small_scene(realisations=1)
     loads = np.geomspace(5e-5, 1e-3, 6) * UNIT

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, make_scene
 
-import fitting
 import jaxcontact as jc
+from jaxcontact import fitting
 from jaxcontact.cli import main
 
 

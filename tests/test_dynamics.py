@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, make_scene
 
-import fitting
 import jaxcontact as jc
+from jaxcontact import fitting
 from jaxcontact.applications import Drive, frequency_response, resonance_frequency, simulate, steady_amplitude
 from jaxcontact.cli import main
 

@@ -7,8 +7,8 @@ from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
 from helpers import WRONG_START as START
 from helpers import make_scene
 
-import fitting
-from fitting._synthetic import synthetic_curve
+from jaxcontact import fitting
+from jaxcontact.fitting._synthetic import synthetic_curve
 
 # Without interaction (TRUTH): the batch program compiles in a quarter of the time, and the fit is the same fit.
 F_STAR = np.geomspace(1e-10, 1e-4, 20)

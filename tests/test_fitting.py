@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, WRONG_START, make_scene
 
-import fitting
 import jaxcontact as jc
-from fitting._synthetic import TABLE1_F_STAR, synthetic_curve, table1_generated
+from jaxcontact import fitting
+from jaxcontact.fitting._synthetic import TABLE1_F_STAR, synthetic_curve, table1_generated
 
 TRUTH = {"D": TABLE1["D"], "G": TABLE1["G"]}
 START = dict(TABLE1, D=1.55, G=1e-9)  # the scene handed to fit: wrong D and G
@@ -328,9 +328,9 @@ def test_lbfgs_is_an_alias_of_bfgs(table1):
 def test_the_optimisers_jacobian_matches_finite_differences(table1):
     """`∂r/∂u` as the optimisers see it: the model's forward-mode Jacobian in statistical
     coordinates times the reparameterisation's slope, against central differences in `u`."""
-    from fitting._observed import observations
-    from fitting._optimise import Objective
     from jaxcontact.core import prepare
+    from jaxcontact.fitting._observed import observations
+    from jaxcontact.fitting._optimise import Objective
 
     loads, K = table1_generated(table1)
     params = fitting.resolve(("D", "G"))
@@ -395,14 +395,14 @@ class _Linear:
 @pytest.mark.parametrize("chi2, expected", [(0.02, False), (0.005, True)])
 def test_a_fit_is_settled_within_the_chi2_decrement_it_is_given(chi2, expected):
     """χ² 0.02 above the optimum (0.14 standard errors) is not settled at 1e-2; 0.005 (0.07) is."""
-    from fitting._optimise import settled
+    from jaxcontact.fitting._optimise import settled
 
     objective = _Linear(1e-2)
     assert settled(objective, objective.away(chi2)) is expected
 
 
 def test_a_model_smooth_to_round_off_is_never_settled_early():
-    from fitting._optimise import settled
+    from jaxcontact.fitting._optimise import settled
 
     objective = _Linear(0.0)
     assert not settled(objective, objective.away(1e-12))
@@ -411,7 +411,7 @@ def test_a_model_smooth_to_round_off_is_never_settled_early():
 def test_bfgs_ends_at_the_first_settled_iterate():
     """With a decrement every point passes (1e6), BFGS from far off ends after one iteration, where
     without one (0) it needs more."""
-    from fitting._optimise import run_bfgs
+    from jaxcontact.fitting._optimise import run_bfgs
 
     start = _Linear(0.0).away(1e4)
     assert run_bfgs(_Linear(0.0), start, 400, 1e-15).iterations > 1
@@ -419,7 +419,7 @@ def test_bfgs_ends_at_the_first_settled_iterate():
 
 
 def test_a_settled_fit_is_converged():
-    from fitting._optimise import run_bfgs
+    from jaxcontact.fitting._optimise import run_bfgs
 
     objective = _Linear(1e-2)
     assert run_bfgs(objective, objective.away(1e4), 400, 1e-15).converged
@@ -458,8 +458,8 @@ def test_a_fit_to_pure_noise_says_it_measured_nothing(random_stiffness):
 
 def _evaluated_linear():
     """`_Linear` as the fit sees D and G, with its optimum evaluated (remembered as the lowest point)."""
-    from fitting._optimise import remember
-    from fitting._parameters import resolve
+    from jaxcontact.fitting._optimise import remember
+    from jaxcontact.fitting._parameters import resolve
 
     objective = _Linear(0.0)
     objective.params, objective.lowest = resolve(("D", "G")), (math.inf, None)
@@ -468,14 +468,14 @@ def _evaluated_linear():
 
 
 def test_a_fit_that_ends_above_a_point_it_evaluated_has_stalled():
-    from fitting._optimise import stalled
+    from jaxcontact.fitting._optimise import stalled
 
     objective = _evaluated_linear()
     assert "stalled" in stalled(objective, objective.loss(objective.away(4.0)), 2)
 
 
 def test_a_fit_within_one_chi2_of_the_lowest_point_it_evaluated_has_not_stalled():
-    from fitting._optimise import stalled
+    from jaxcontact.fitting._optimise import stalled
 
     objective = _evaluated_linear()
     assert stalled(objective, objective.loss(objective.away(0.5)), 2) is None
@@ -483,8 +483,8 @@ def test_a_fit_within_one_chi2_of_the_lowest_point_it_evaluated_has_not_stalled(
 
 def test_a_rivals_delta_chi2_is_measured_in_the_loss_the_starts_were_ranked_by():
     """Two starts 0.2 apart in D: the rival's Δχ² is 2N (loss_rival − loss_best) / s², never negative."""
-    from fitting._parameters import resolve
-    from fitting._statistics import rival_optima
+    from jaxcontact.fitting._parameters import resolve
+    from jaxcontact.fitting._statistics import rival_optima
 
     params = resolve(("D", "G"))
     u_all = np.array([[p.u_from_stat(s) for p, s in zip(params, stat)] for stat in ([1.4, -23.0], [1.6, -23.0])])

@@ -9,12 +9,12 @@ from helpers import ROOT, make_scene
 from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
 from helpers import WRONG_START as START
 
-import fitting
 import jaxcontact as jc
-from fitting._identifiability import combinations, report
-from fitting._optimise import run_lm
-from fitting._prior import GaussianPrior, PriorObjective, resolve_prior
-from fitting._synthetic import TABLE1_F_STAR, synthetic_curve
+from jaxcontact import fitting
+from jaxcontact.fitting._identifiability import combinations, report
+from jaxcontact.fitting._optimise import run_lm
+from jaxcontact.fitting._prior import GaussianPrior, PriorObjective, resolve_prior
+from jaxcontact.fitting._synthetic import TABLE1_F_STAR, synthetic_curve
 
 D_AND_G = fitting.resolve(("D", "G"))
 ROOT_DATA = ROOT / "data" / "table1_grinding_generated.csv"

@@ -7,10 +7,10 @@ import pytest
 from helpers import TABLE1, WRONG_START, make_scene
 from helpers import TABLE1_WITHOUT_INTERACTION as TRUTH
 
-import fitting
 import jaxcontact as jc
-from fitting._nuts import run_chains
-from fitting._synthetic import synthetic_curve
+from jaxcontact import fitting
+from jaxcontact.fitting._nuts import run_chains
+from jaxcontact.fitting._synthetic import synthetic_curve
 
 MEAN = np.array([1.0, -2.0])
 COVARIANCE = np.array([[1.0, 0.8], [0.8, 2.0]])

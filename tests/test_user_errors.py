@@ -7,9 +7,8 @@ import numpy as np
 import pytest
 from helpers import ROOT, TABLE1, make_scene
 
-import fitting
 import jaxcontact as jc
-from jaxcontact import bem
+from jaxcontact import bem, fitting
 from jaxcontact import topography as tp
 from jaxcontact.cli import main
 

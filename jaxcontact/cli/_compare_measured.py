@@ -14,7 +14,7 @@ MEASURED_FRACTIONS = (0.005, 0.02, 0.05, 0.12)
 
 def _fits(comparison, K_bem, ok):
     """Each model's (D, G) fitted to the BEM curve, beside the characterised values."""
-    from fitting import fit
+    from jaxcontact.fitting import fit
 
     from ..studies._compare import COMPARED
 

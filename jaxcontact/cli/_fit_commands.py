@@ -14,7 +14,7 @@ def cmd_fit(args) -> int:
 
     import numpy as np
 
-    import fitting
+    from jaxcontact import fitting
 
     from ._report import scene_record
     from ._scenefile import load_scene

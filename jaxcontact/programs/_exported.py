@@ -20,6 +20,7 @@ import contextlib
 import functools
 import hashlib
 import importlib.metadata
+import importlib.util
 import logging
 import os
 import pathlib
@@ -61,7 +62,9 @@ def _sources() -> str:
     if _source_digest is None:
         digest = hashlib.sha256()
         package = pathlib.Path(__file__).resolve().parents[1]
-        for root in (package, package.parent / "fitting"):
+        # `jaxcontact.fitting` installs from a folder of its own (pyproject's package-dir).
+        fitting = importlib.util.find_spec("jaxcontact.fitting").submodule_search_locations[0]
+        for root in (package, pathlib.Path(fitting).resolve()):
             for path in sorted(root.rglob("*.py")):
                 digest.update(str(path.relative_to(root.parent)).encode())
                 digest.update(path.read_bytes())

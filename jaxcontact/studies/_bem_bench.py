@@ -121,7 +121,7 @@ def fit_time(grid: int = 256, realisations: int = 2, loads: int = 6) -> dict:
     BEM model to its own curve (3 % noise), at the fit's default tolerance."""
     import equinox as eqx
 
-    import fitting
+    from jaxcontact import fitting
 
     from .. import BEM, solve
 

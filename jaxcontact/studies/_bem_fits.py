@@ -72,7 +72,7 @@ def surface_map(scene, model):
 def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress) -> list[dict]:
     import equinox as eqx
 
-    import fitting
+    from jaxcontact import fitting
 
     from ..bem import BEM
     from ..core import solve

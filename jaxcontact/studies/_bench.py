@@ -94,7 +94,7 @@ def gradient(scene: Scene) -> dict:
 
 
 def fit(scene: Scene) -> dict:
-    import fitting
+    from jaxcontact import fitting
 
     loads, K = _data(scene)
     start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (1.5, 1e-9))

@@ -15,8 +15,8 @@ def run_fit_bench(scene, curves: int = 1000, points: int = 30, looped: int = 20,
     (compiling) fit, its per-curve times scaled to `curves`."""
     import jax
 
-    import fitting
-    from fitting._synthetic import synthetic_curve
+    from jaxcontact import fitting
+    from jaxcontact.fitting._synthetic import synthetic_curve
 
     F_star = np.geomspace(1e-10, 1e-4, points)
     loads, K = (np.array(a) for a in zip(*(synthetic_curve(scene, F_star, noise=0.05, seed=s) for s in range(curves))))
