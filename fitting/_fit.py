@@ -84,7 +84,7 @@ def fit(
     tol: float | None = None,
     starts=None,
     prior=None,
-    noise: float | None = None,
+    noise: float | dict[str, float] | None = None,
     profile: bool = False,
     approach=None,
     reference_load: float | None = None,

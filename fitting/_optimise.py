@@ -11,8 +11,10 @@ to seven parameters a step on the host costs nothing next to the model.
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import math
+import typing
 
 import numpy as np
 from scipy import optimize
@@ -39,7 +41,43 @@ class Outcome:
     converged: bool
 
 
-class Objective:
+class AbstractObjective(abc.ABC):
+    """What the optimisers and the fit's checks see of a fit: `(r, J) = objective(u)`, the residuals
+    and their Jacobian `∂r/∂u` in the optimiser coordinates `u`, and the loss ½ Σr²/N.
+
+    **Attributes:** `params` (the fitted `FitParameter`s), `n_points` (N, the measured values),
+    `settle` (the χ² decrement below which a fit is done, `settled`; 0 for never), `lowest` (the
+    lowest loss evaluated and where: a fit that ends above it has stalled, `stalled`).
+    """
+
+    params: tuple
+    n_points: int
+    settle: float = 0.0
+    lowest: tuple = (math.inf, None)
+
+    @abc.abstractmethod
+    def residuals(self, u) -> tuple[np.ndarray, np.ndarray]:
+        """The residuals and their Jacobian `∂r/∂u` at `u`."""
+
+    @typing.final
+    def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
+        r, J = self.residuals(u)
+        loss = half_mean_square(r, self.n_points)
+        if math.isfinite(loss) and loss < self.lowest[0]:
+            self.lowest = (loss, np.array(u, dtype=float))
+        return r, J
+
+    @typing.final
+    def loss(self, u) -> float:
+        return half_mean_square(self(u)[0], self.n_points)
+
+
+def half_mean_square(r: np.ndarray, n: int) -> float:
+    """The loss ½ Σr²/N of residuals `r` over `n` measured values."""
+    return 0.5 * float(r @ r) / n
+
+
+class Objective(AbstractObjective):
     """The residuals `r(u)` and their Jacobian `∂r/∂u` at the curve's points (the padding cut off;
     every observable's column, flattened by load).
 
@@ -55,9 +93,8 @@ class Objective:
         self.n_points = int(data.measured[:rows].sum())
         self.settle = 0.0 if scene.model.precision == 0 else SETTLED_STEPPED
         self._last = None
-        self.lowest = (math.inf, None)
 
-    def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
+    def residuals(self, u) -> tuple[np.ndarray, np.ndarray]:
         u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
         if self._last is not None and np.array_equal(self._last[0], u):
             return self._last[1]
@@ -65,23 +102,10 @@ class Objective:
         e = evaluated(np.asarray(stat, self.dtype), self.scene, self.params, self.data, self.rows)
         r, J = e.r.astype(float), e.J.astype(float) * np.asarray(slope)
         self._last = (u, (r, J))
-        remember(self, u, r)
         return r, J
 
-    def loss(self, u) -> float:
-        r = self(u)[0]
-        return 0.5 * float(r @ r) / self.n_points
 
-
-def remember(objective, u, r) -> None:
-    """Keep `objective.lowest`, the lowest loss (½ mean r²) it was evaluated at and where: a fit that
-    ends above it has stalled (`stalled`)."""
-    loss = 0.5 * float(r @ r) / objective.n_points
-    if math.isfinite(loss) and loss < objective.lowest[0]:
-        objective.lowest = (loss, np.array(u, dtype=float))
-
-
-def stalled(objective, loss: float, p: int) -> str | None:
+def stalled(objective: AbstractObjective, loss: float, p: int) -> str | None:
     """A warning when the fit ended at `loss` although the optimiser evaluated a point lower by more
     than one unit of χ² (in the best loss's own s² = Σr²/(N − p)), else None."""
     lowest, u = objective.lowest
@@ -97,7 +121,7 @@ def stalled(objective, loss: float, p: int) -> str | None:
     )
 
 
-def run_lm(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
+def run_lm(objective: AbstractObjective, u0, max_iter: int, tol: float) -> Outcome:
     """Levenberg–Marquardt (MINPACK's `lmder` through `scipy.optimize.least_squares`).
 
     `tol` is MINPACK's `xtol`, `ftol` and `gtol` (relative step, relative reduction of the sum of
@@ -117,7 +141,7 @@ def run_lm(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
     return Outcome(sol.x, objective.loss(sol.x), int(sol.njev or sol.nfev), bool(sol.status > 0))
 
 
-def run_bfgs(objective: Objective, u0, max_iter: int, tol: float) -> Outcome:
+def run_bfgs(objective: AbstractObjective, u0, max_iter: int, tol: float) -> Outcome:
     """Quasi-Newton BFGS on the loss `½ mean r²`, with the gradient `Jᵀr / N` (scipy's L-BFGS-B,
     without bounds: with two to seven parameters its memory of ten steps is the full BFGS matrix).
 
@@ -164,13 +188,13 @@ def gauss_newton(r, J):
     return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
-def _gauss_newton_step(objective: Objective, u) -> float:
+def _gauss_newton_step(objective: AbstractObjective, u) -> float:
     """The largest component of the Gauss–Newton step from `u`, relative to `1 + |u|`."""
     step = gauss_newton(*objective(u))
     return float(np.max(np.abs(step) / (1.0 + np.abs(u))))
 
 
-def settled(objective: Objective, u) -> bool:
+def settled(objective: AbstractObjective, u) -> bool:
     """Whether the fit at `u` is statistically done: the Gauss–Newton step from it would lower χ²
     (the residuals in units of their own scale `s² = Σr²/(N − p)`) by less than `objective.settle`,
     i.e. the parameters are within `√settle` standard errors of the optimum of the linearised problem.

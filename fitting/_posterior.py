@@ -133,7 +133,7 @@ def sample(
     params=("D", "G"),
     *,
     prior=None,
-    noise: float | None = None,
+    noise: float | dict[str, float] | None = None,
     chains: int = 4,
     draws: int = 500,
     warmup: int = 500,

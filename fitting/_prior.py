@@ -18,7 +18,7 @@ import numpy as np
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
 
-from ._optimise import Objective, remember, run_lm
+from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
 from ._spectral_prior import decorrelated, spectral_coordinates, spectral_jacobian
 
@@ -137,17 +137,15 @@ def resolve_prior(prior, fitted):
     return gaussian, narrowed
 
 
-class PriorObjective:
-    """An objective (`Objective`'s interface: `params`, `n_points`, `(r, J) = objective(u)`, `loss(u)`)
-    whose residuals are `base`'s divided by the noise `sigma`, with the prior's `L⁻¹ (θ − μ)` appended."""
+class PriorObjective(AbstractObjective):
+    """An objective whose residuals are `base`'s divided by the noise `sigma`, with the prior's
+    `L⁻¹ (θ − μ)` appended."""
 
-    def __init__(self, base: Objective, prior: GaussianPrior, sigma: float):
-        self.base, self.params, self.n_points = base, base.params, base.n_points
-        self.settle = getattr(base, "settle", 0.0)
+    def __init__(self, base: AbstractObjective, prior: GaussianPrior, sigma: float):
+        self.base, self.params, self.n_points, self.settle = base, base.params, base.n_points, base.settle
         self.prior, self.sigma, self._root = prior, sigma, prior.root
-        self.lowest = (math.inf, None)
 
-    def __call__(self, u):
+    def residuals(self, u):
         r, J = self.base(u)
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, np.asarray(u, dtype=float))))
         index = list(self.prior.index)
@@ -155,13 +153,7 @@ class PriorObjective:
         r_prior = self._root @ (value - self.prior.mean)
         J_prior = np.zeros((len(index), len(self.params)))
         J_prior[:, index] = self._root @ jacobian * np.asarray(slope)[index]
-        r_all = np.concatenate([r / self.sigma, r_prior])
-        remember(self, u, r_all)
-        return r_all, np.vstack([J / self.sigma, J_prior])
-
-    def loss(self, u) -> float:
-        r = self(u)[0]
-        return 0.5 * float(r @ r) / self.n_points
+        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior])
 
 
 def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior, stat_hat) -> dict:

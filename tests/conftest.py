@@ -35,9 +35,20 @@ os.environ["XLA_FLAGS"] = " ".join(filter(None, flags))
 os.environ.setdefault("JAX_INCLUDE_FULL_TRACEBACKS_IN_LOCATIONS", "false")
 os.environ.setdefault("JAX_TRACEBACK_IN_LOCATIONS_LIMIT", "0")
 
+import importlib.util  # noqa: E402
+
 import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
+
+# Every annotation of the library is checked as the suite runs it (jaxtyping's import hook with
+# beartype, as the anchors run theirs; ints stand for floats as PEP 484 says). Installed before
+# anything imports jaxcontact; JAXCONTACT_TYPECHECK=0, or no beartype, runs the library as users
+# do, where a wrong type meets the library's own message (helpers.refused_type).
+if os.environ.get("JAXCONTACT_TYPECHECK", "1") != "0" and importlib.util.find_spec("beartype") is not None:
+    from jaxtyping import install_import_hook
+
+    install_import_hook(["jaxcontact"], "beartype.beartype(conf=beartype.BeartypeConf(is_pep484_tower=True))")
 
 import pathlib  # noqa: E402
 

@@ -1,16 +1,34 @@
 """What the tests share: the embedded scenes' values, scene builders, masked sums, jitted helpers.
 (Settings and fixtures live in conftest.py.)"""
 
+import importlib.util
+import os
 import pathlib
 
 import equinox as eqx
 import jax
+import jaxtyping
+import pytest
 
 import jaxcontact as jc
 from jaxcontact.core import table1_values
 from jaxcontact.quantities import nondimensionalise
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+# Whether the library runs under jaxtyping's import hook with beartype (conftest.py): the suite's
+# default where beartype is installed; JAXCONTACT_TYPECHECK=0 runs the library as users do.
+TYPECHECKED = os.environ.get("JAXCONTACT_TYPECHECK", "1") != "0" and importlib.util.find_spec("beartype") is not None
+
+
+def refused_type(parameter: str, message: str):
+    """`pytest.raises` for an argument of the wrong type: the library's own `ValueError` matching
+    `message`; under the type checker, which sees the call first, its error naming `parameter`."""
+    if TYPECHECKED:
+        return pytest.raises(jaxtyping.TypeCheckError, match=f"parameter '{parameter}'")
+    return pytest.raises(ValueError, match=message)
+
+
 SHARED = ROOT.parent / "shared"
 # The 96 conformance vectors, shipped with the tests (tests/data/README.md), and the specification's
 # own copy beside the project (absent in a user's clone).

@@ -8,6 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import refused_type
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -107,10 +108,15 @@ def test_a_tolerance_outside_its_range_is_refused(tolerance):
         bem.solve(HEIGHTS, L, E, LOADS, tolerance=tolerance)
 
 
-@pytest.mark.parametrize("max_iterations", [0, -3, 2.5])
+@pytest.mark.parametrize("max_iterations", [0, -3])
 def test_max_iterations_below_one_is_refused(max_iterations):
     with pytest.raises(ValueError, match=r"max_iterations = .* must be an integer >= 1"):
         bem.solve(HEIGHTS, L, E, LOADS, max_iterations=max_iterations)
+
+
+def test_a_fractional_iteration_count_is_refused():
+    with refused_type("max_iterations", r"max_iterations = 2.5 must be an integer >= 1"):
+        bem.solve(HEIGHTS, L, E, LOADS, max_iterations=2.5)
 
 
 def test_the_bem_model_refuses_a_loose_tolerance():

@@ -56,8 +56,9 @@ MIXED = jnp.asarray(np.concatenate([LOADS, [OUT_OF_RANGE, np.nan]]))
 EVERY_POINT = jnp.ones(MIXED.shape)
 
 
-def test_the_registry_lists_the_toy_model():
-    assert "toy-all-elastic" in MODEL_NAMES
+def test_a_scene_names_the_registered_toy_model():
+    """The one registry line makes the class a name that scenes (and scene files) use."""
+    assert type(make_scene(**TABLE1, model="toy-all-elastic").model) is AllElastic
 
 
 @pytest.mark.parametrize("name", MODEL_NAMES)

@@ -63,8 +63,13 @@ def test_filter_vmap_over_stacked_scenes_equals_a_loop():
     np.testing.assert_allclose(np.asarray(batched), np.asarray(looped), rtol=1e-12)
 
 
-def test_tree_map_keeps_a_valid_scene():
-    scene = make_scene(**TABLE1)
-    doubled_area = jax.tree.map(lambda x: x, eqx.tree_at(lambda s: s.area, scene, 2 * scene.area))
-    assert float(doubled_area.area) == 2 * TABLE1["area"]
-    assert doubled_area.model == scene.model
+def test_tree_map_over_two_scenes_gives_a_scene_between_them():
+    """`jax.tree.map` rebuilds a Scene from new leaves (its checks pass, its model is kept)."""
+    low, high = make_scene(**{**TABLE1, "D": 1.3}), make_scene(**{**TABLE1, "D": 1.5})
+    middle = jax.tree.map(lambda a, b: (a + b) / 2, low, high)
+    assert float(middle.surface.D) == pytest.approx(1.4, rel=1e-15)
+
+
+def test_tree_map_over_two_scenes_keeps_their_model():
+    low, high = make_scene(**{**TABLE1, "D": 1.3}), make_scene(**{**TABLE1, "D": 1.5})
+    assert jax.tree.map(lambda a, b: (a + b) / 2, low, high).model == low.model

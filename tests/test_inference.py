@@ -12,7 +12,7 @@ from helpers import WRONG_START as START
 import jaxcontact as jc
 from jaxcontact import fitting
 from jaxcontact.fitting._identifiability import combinations, report
-from jaxcontact.fitting._optimise import run_lm
+from jaxcontact.fitting._optimise import AbstractObjective, run_lm
 from jaxcontact.fitting._prior import GaussianPrior, PriorObjective, resolve_prior
 from jaxcontact.fitting._synthetic import TABLE1_F_STAR, synthetic_curve
 
@@ -68,19 +68,15 @@ def test_a_well_determined_curve_determines_every_combination(profiled):
     assert all(c.determined for c in profiled.identifiability)
 
 
-class _Linear:
+class _Linear(AbstractObjective):
     """A linear model in statistical coordinates: r = X θ − y, for the prior's closed-form check."""
 
     def __init__(self, X, y):
         self.X, self.y, self.params, self.n_points = X, y, D_AND_G, len(y)
 
-    def __call__(self, u):
+    def residuals(self, u):
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
         return self.X @ np.asarray(stat) - self.y, self.X * np.asarray(slope)
-
-    def loss(self, u):
-        r = self(u)[0]
-        return 0.5 * float(r @ r) / self.n_points
 
 
 def test_the_map_estimate_is_the_gaussian_linear_closed_form():

@@ -20,6 +20,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..core import Outputs, Scene, kink_log_loads, prepare, solve
+from ..numerics import LoadsLike
 from ..quantities import Scales, Status
 
 
@@ -88,7 +89,7 @@ def _approach_quadrature(scene: Scene, loads, reference_load, nodes: int):
 
 
 def approach_quadrature(
-    scene: Scene, loads: Float[ArrayLike, "*loads"], reference_load: float, *, nodes: int = 8
+    scene: Scene, loads: LoadsLike, reference_load: float | Float[ArrayLike, ""], *, nodes: int = 8
 ) -> Approach:
     """Normal approach of the joint relative to a preload, docs/model.md §6, by piecewise
     Gauss–Legendre quadrature of `dδ/d(ln F) = F/K_t` between the loads, the preload and the kinks

@@ -16,9 +16,9 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import ArrayLike, Float
 
 from ..core import Scene, kink_log_loads, point_solver, prepare
+from ..numerics import LoadsLike
 from ..numerics._compat import checks_without_host_callbacks, top_level
 from ..programs import _exported as exported
 from ..programs import padded, unpadded
@@ -90,7 +90,7 @@ def _approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int):
 
 def approach(
     scene: Scene,
-    loads: Float[ArrayLike, "*loads"],
+    loads: LoadsLike,
     reference_load: float,
     *,
     rtol: float | None = None,

@@ -13,7 +13,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..models import CLOSED_INTERFACE
 from ..numerics._validate import check_choice, check_range
@@ -57,10 +57,10 @@ class ContactSolution(eqx.Module):
 
 
 def solve(
-    heights: Float[Array, "n n"],
+    heights: Float[ArrayLike, "n n"],
     size,
     modulus,
-    loads: Float[Array, " loads"],
+    loads: Float[ArrayLike, " loads"],
     *,
     hardness=None,
     substrate: str = "periodic",
@@ -127,10 +127,10 @@ class GridProblem(eqx.Module):
 
     compliance: Compliance
     heights: Float[Array, "n n"]
-    cap: Float[Array, ""]
-    scale: Float[Array, ""]
-    load_unit: Float[Array, ""]
-    stiffness_unit: Float[Array, ""]
+    cap: Float[ArrayLike, ""]
+    scale: Float[ArrayLike, ""]
+    load_unit: Float[ArrayLike, ""]
+    stiffness_unit: Float[ArrayLike, ""]
     capped: bool = eqx.field(static=True)
     preconditioned: bool = eqx.field(static=True, default=True)
 

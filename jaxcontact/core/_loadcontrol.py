@@ -14,10 +14,11 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Bool, Float
+from jaxtyping import Array, Bool, Float
 
 from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
+from ..numerics import LoadsLike
 from ..numerics._elementwise import unrolled_sum
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
@@ -129,10 +130,15 @@ def _solution_tree(treedef):
 
     def tree(leaves):
         scene, outputs, _ = jax.tree_util.tree_unflatten(treedef, leaves)
-        shares = 0.0 if outputs.regime_shares else None
-        fields = ("load", "a_l", "stiffness", "real_area", "status", "modulus", "nominal_area")
+        zero = jnp.zeros(())
+        shares = jnp.zeros((len(scene.model.regimes),)) if outputs.regime_shares else None
+        fields = ("load", "a_l", "stiffness", "real_area", "modulus", "nominal_area")
         template = Solution(
-            **dict.fromkeys(fields, 0.0), load_share=shares, stiffness_share=shares, regimes=scene.model.regimes
+            **dict.fromkeys(fields, zero),
+            status=jnp.zeros((), jnp.int32),
+            load_share=shares,
+            stiffness_share=shares,
+            regimes=scene.model.regimes,
         )
         return jax.tree_util.tree_structure(template)
 
@@ -146,7 +152,7 @@ DEFAULT_SOLVER = NewtonBisection()
 
 def solve(
     scene: Scene,
-    loads: Float[ArrayLike, "*loads"],
+    loads: LoadsLike,
     *,
     outputs: Outputs = DEFAULT_OUTPUTS,
     solver: NewtonBisection = DEFAULT_SOLVER,

@@ -38,25 +38,27 @@ CLOSED_INTERFACE = 0.99
 
 
 class JointResponse(eqx.Module):
-    """Totals of the joint at one state (dimensionless), split by the model's regimes.
+    """Totals of the joint at one state (or a batch of them, `*loads`), dimensionless, split by the
+    model's regimes.
 
     **Fields:** `regime_load` (F* per regime), `regime_stiffness` (K* per regime), `real_area`
     (A_r*), `breakdown` (True where the model is not valid at this load, e.g. the "paper"
     interaction's ω' vanishes inside the range).
     """
 
-    regime_load: Float[Array, " regimes"]
-    regime_stiffness: Float[Array, " regimes"]
-    real_area: Float[Array, ""]
-    breakdown: Bool[Array, ""]
+    regime_load: Float[Array, "*loads regimes"]
+    regime_stiffness: Float[Array, "*loads regimes"]
+    real_area: Float[Array, "*loads"]
+    breakdown: Bool[Array, "*loads"]
 
 
 class PointResult(eqx.Module):
-    """One load point, dimensionless: `ln a_l*`, the joint's response there, and the status."""
+    """One load point (or a batch of them, `*loads`), dimensionless: `ln a_l*`, the joint's response
+    there, and the status."""
 
-    log_a_l: Float[Array, ""]
+    log_a_l: Float[Array, "*loads"]
     response: JointResponse
-    status: Int[Array, ""]
+    status: Int[Array, "*loads"]
 
     @property
     def stiffness_star(self):

@@ -17,7 +17,7 @@ import abc
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..numerics import PowerLaw, exponential_integral
 from ..numerics._elementwise import pick
@@ -41,7 +41,7 @@ class AbstractLoadPieces(eqx.Module):
     def log_load_slope(self, log_a_l, piece) -> Float[Array, ""]:
         """`d ln F_t* / d ln a_l*` on the piece."""
 
-    def locate(self, log_load) -> tuple[Int[Array, ""], Float[Array, ""], Float[Array, ""], Float[Array, ""]]:
+    def locate(self, log_load) -> tuple[Int[ArrayLike, ""], Float[Array, ""], Float[Array, ""], Float[Array, ""]]:
         """The piece that holds the load `ln F*`, its ends, and a first guess of `ln a_l*` on it.
 
         The guess interpolates `ln a_l` linearly in `ln F` between the piece's ends (`F_t` is

@@ -16,6 +16,7 @@ from ._rootfind import solve_increasing
 from ._validate import (
     InputError,
     JaxcontactWarning,
+    LoadsLike,
     MissingExtraError,
     PlausibilityWarning,
     check_choice,
@@ -34,6 +35,7 @@ __all__ = [
     "check_instance",
     "check_range",
     "decoded_text",
+    "LoadsLike",
     "float_array",
     "optional_import",
     "exponential_integral",

@@ -10,10 +10,10 @@ point in a micro-benchmark).
 from __future__ import annotations
 
 import jax
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, ArrayLike, Float, Int
 
 
-def pick(values: Float[Array, "n"], index: Int[Array, ""]) -> Float[Array, ""]:
+def pick(values: Float[Array, "n"], index: Int[ArrayLike, ""]) -> Float[Array, ""]:
     """`values[index]` as an elementwise select, which XLA fuses into the surrounding loop."""
     return jax.lax.select_n(index, *values)
 

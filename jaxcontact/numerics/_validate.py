@@ -10,10 +10,15 @@ import contextlib
 import contextvars
 import importlib
 import math
+from collections.abc import Sequence
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import ArrayLike, Float
+
+# What a function of loads takes: an array (JAX or NumPy), a number, or a list of numbers.
+LoadsLike = Float[ArrayLike, "*loads"] | Sequence[float]
 
 
 class InputError(ValueError):

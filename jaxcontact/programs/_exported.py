@@ -136,7 +136,7 @@ def program(name: str, static: str, function: Callable, args, closed_over=(), fa
     return make(exported.call)
 
 
-def _write(path: pathlib.Path, payload: bytes) -> None:
+def _write(path: pathlib.Path, payload: bytes | bytearray) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_suffix(f".{os.getpid()}.partial")
     partial.write_bytes(payload)

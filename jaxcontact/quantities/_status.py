@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import enum
 
+import numpy as np
+from jaxtyping import ArrayLike, Int
+
 
 class Status(enum.IntEnum):
     """Why a load point has no valid result.
@@ -37,7 +40,7 @@ class Status(enum.IntEnum):
     UNRESOLVED_LOAD = 6
 
 
-def status_message(code: int) -> str:
+def status_message(code: int | np.integer | Int[ArrayLike, ""]) -> str:
     """A short name for a status code, e.g. for tables: "ok", "interaction_breakdown", ..."""
     try:
         return Status(int(code)).name.lower()

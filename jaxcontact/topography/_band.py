@@ -213,7 +213,7 @@ def _tilted(p: Binned, straight, corrected) -> bool:
     than `Z · SYSTEMATIC` in ln C, its slope off by more than the two's combined standard error."""
     ((theta, covariance, *_), (i, j), _), ((theta_c, covariance_c, kappa, _), (ci, cj), _) = straight, corrected
     within = ci <= i and cj >= j and kappa * -p.u[j] > Z * SYSTEMATIC
-    return within and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0])
+    return bool(within and abs(theta[0] - theta_c[0]) > math.sqrt(covariance[0, 0] + covariance_c[0, 0]))
 
 
 def select_band(
