@@ -114,6 +114,11 @@ def test_max_iterations_below_one_is_refused(max_iterations):
         bem.solve(HEIGHTS, L, E, LOADS, max_iterations=max_iterations)
 
 
+def test_a_map_that_is_not_square_is_refused():
+    with refused_type("heights", "must be a square map|takes a square map"):
+        bem.solve(jnp.zeros((16, 8)), L, E, LOADS)
+
+
 def test_a_fractional_iteration_count_is_refused():
     with refused_type("max_iterations", r"max_iterations = 2.5 must be an integer >= 1"):
         bem.solve(HEIGHTS, L, E, LOADS, max_iterations=2.5)
