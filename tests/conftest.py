@@ -6,32 +6,32 @@ import os
 
 os.environ.setdefault("JAX_PLATFORMS", "cpu")
 # One OpenBLAS thread per worker: the two workers keep both cores busy, and OpenBLAS's threads
-# then wait on each other (the suite 4:30 -> 4:21). Read when numpy loads: the workers, started
-# after this file is loaded, inherit it.
+# would wait on each other. Read when numpy loads: the workers, started after this file is loaded,
+# inherit it.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # `main()` called in-process keeps no programs in the user's home (~/.cache/jaxcontact): every
 # run of the suite compiles what a clean machine compiles. Tests of the kept programs give them
 # a temporary directory of their own.
 os.environ["JAXCONTACT_CACHE"] = ""
-# The suite's cost is XLA compiling the model's programs, most of them run once or a few times.
-# XLA's classic CPU loop emitters compile them in about half the time of the newer (MLIR) ones,
-# for the same numbers to round-off (`core.compiling`, where the fit's program asks for them).
-# LLVM's optimisation level 1 instead of 2 compiles the "paper" Jacobian and gradient a quarter
-# faster (4.2 -> 2.9 s, 4.9 -> 3.6 s; the same numbers to 3e-16), at ~10 % more run time. Level 0
-# is not used: together with the classic emitters, jaxlib 0.10.2 gives wrong numbers there (the
-# a_l solve's fallback loop, the E-derivative of K).
-# One LLVM code-generation part per program: the suite's two workers keep both cores busy, and
-# splitting a program for parallel code generation then costs CPU for no gain (the "paper"
-# gradient: 4.6 s of CPU in one part, 4.8 s in parts; the suite 4:52 -> 4:30).
+# The suite's cost is XLA compiling the model's programs, most of them run once or a few times, so by
+# default it compiles them faster than users' programs are compiled: XLA's classic CPU loop emitters
+# (which the fit's own program asks for, `programs.compiling`), LLVM's optimisation level 1 and one
+# code-generation part per program (the two workers keep both cores busy). The numbers are the same
+# to round-off, and the suite takes about two thirds of the time (docs/accuracy-and-speed.md).
+# JAXCONTACT_XLA=default runs it on JAX's default compiler settings, as users' programs are compiled
+# (.ci/run does, after the fast run). Level 0 is never used: with the classic emitters, jaxlib
+# 0.10.2 gives wrong numbers there (the a_l solve's fallback loop, the E-derivative of K).
 JAXLIB = tuple(int(x) for x in importlib.metadata.version("jaxlib").split(".")[:2])
-flags = [os.environ.get("XLA_FLAGS"), "--xla_cpu_parallel_codegen_split_count=1"]
-if JAXLIB >= (0, 10):
-    flags += ["--xla_cpu_use_fusion_emitters=false", "--xla_backend_optimization_level=1"]
+DEFAULT_XLA = os.environ.get("JAXCONTACT_XLA") == "default"
+flags = [os.environ.get("XLA_FLAGS")]
+if not DEFAULT_XLA:
+    flags.append("--xla_cpu_parallel_codegen_split_count=1")
+    if JAXLIB >= (0, 10):
+        flags += ["--xla_cpu_use_fusion_emitters=false", "--xla_backend_optimization_level=1"]
 os.environ["XLA_FLAGS"] = " ".join(filter(None, flags))
 
 # Source locations in traced programs serve XLA's dumps and profiles, which the suite does not
-# read; recording each equation's traceback costs time (test_dynamics.py alone: 47.5 s with them,
-# 46.0-46.3 s without, alternated).
+# read, and recording each equation's traceback costs tracing time.
 os.environ.setdefault("JAX_INCLUDE_FULL_TRACEBACKS_IN_LOCATIONS", "false")
 os.environ.setdefault("JAX_TRACEBACK_IN_LOCATIONS_LIMIT", "0")
 
@@ -55,7 +55,8 @@ import pathlib  # noqa: E402
 # One on-disk cache of compiled programs for the session's worker processes: a program that two
 # test files (on two workers) both need is compiled once. A clean clone starts with it empty.
 jax.config.update(
-    "jax_compilation_cache_dir", str(pathlib.Path(__file__).resolve().parents[1] / ".pytest_cache" / "jax")
+    "jax_compilation_cache_dir",
+    str(pathlib.Path(__file__).resolve().parents[1] / ".pytest_cache" / ("jax-default" if DEFAULT_XLA else "jax")),
 )
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.3)
 

@@ -228,3 +228,12 @@ def test_the_wheel_installs_jaxcontact_alone():
         if path.is_dir() and path.name != "__pycache__"
     }
     assert sorted(listed) == sorted(folders)
+
+
+@pytest.mark.parametrize("package", ["jaxcontact", "jaxcontact.fitting"])
+def test_docs_architecture_lists_every_exported_name(package):
+    import re
+
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    exported = importlib.import_module(package).__all__
+    assert [n for n in exported if not re.search(rf"`[^`]*\b{re.escape(n)}\b[^`]*`", text)] == []

@@ -81,7 +81,7 @@ class SceneFileError(InputError):
 
 @dataclasses.dataclass(frozen=True)
 class DynamicsSpec:
-    """The `[dynamics]` table: the driven mass of `jaxcontact.dynamics`."""
+    """The `[dynamics]` table: the driven mass of `jaxcontact.applications` (`simulate`, `steady_amplitude`)."""
 
     mass: float
     preload: float
