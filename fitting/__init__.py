@@ -1,14 +1,15 @@
 """jaxcontact.fitting: recover fractal surface parameters (D, G, ...) from measured stiffness curves.
 
-`fit(loads, stiffness, scene, params=("D", "G"), method="bfgs", prior=None)` returns a `FitResult`
+`fit(loads, stiffness, scene, params=("D", "G"), method=BFGS(), prior=None)` returns a `FitResult`
 with estimates, standard errors, 95 % intervals, correlations and what the curve determines;
 `sample(...)` (the `bayes` extra) a `Posterior` by NUTS.
 """
 
 from ._batch import BatchResult, fit_batch
 from ._data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
-from ._fit import METHODS, fit, model_stiffness, starting_points
+from ._fit import fit, model_stiffness, starting_points
 from ._identifiability import Combination, Profile
+from ._optimise import BFGS, METHODS, AbstractMethod, LevenbergMarquardt
 from ._parameters import PARAMETERS, FitParameter, resolve
 from ._posterior import Posterior, sample
 from ._residuals import FLAGGED_RESIDUAL, log_residuals
@@ -27,6 +28,9 @@ __all__ = [
     "Combination",
     "Profile",
     "METHODS",
+    "AbstractMethod",
+    "BFGS",
+    "LevenbergMarquardt",
     "FLAGGED_RESIDUAL",
     "log_residuals",
     "starting_points",

@@ -28,28 +28,12 @@ from jaxcontact.numerics import float_array
 
 from ._identifiability import profiles_of
 from ._observed import POINTS_MULTIPLE, observations
-from ._optimise import RUNNERS, Objective, stalled
+from ._optimise import BFGS, METHODS, AbstractMethod, Objective, stalled
 from ._parameters import FitParameter, resolve, with_stat
 from ._prior import PriorObjective, noise_scale, resolve_prior, with_prior
 from ._residuals import evaluated
 from ._result import FitResult
 from ._statistics import inner_bounds, rival_optima, statistics
-
-# float64. LM's tests (MINPACK's xtol, ftol, gtol) must sit above the round-off of steps along the
-# ill-conditioned D–G valley. BFGS stops on the loss's relative progress per iteration: at an
-# optimum on a kink of the loss (see `optimise.run_bfgs`) 1e-12 left D 1e-6 short of it.
-DEFAULT_TOLERANCE = {"bfgs": 1e-15, "lm": 1e-10}
-# A model smooth only to a relative `precision` ε in K bounds how fine a fit can stop. MINPACK's
-# tests are relative (a step, a reduction of the sum of squares, a cosine): ε itself. BFGS's test on
-# the loss's progress is relative to max(loss, 1), and a loss of ½ mean (ln K residual)² is far below
-# 1: ε there stopped a noiseless fit of the boundary-element model at D = 1.5047 for 1.5, its interval
-# excluding the truth. ε² is the loss's own resolution (the residuals, each resolved to ε, squared).
-PRECISION_POWER = {"bfgs": 2, "lm": 1}
-
-
-METHODS = tuple(RUNNERS)
-# Earlier versions ran optax's L-BFGS under this name; scripts that ask for it get BFGS.
-ALIASES = {"lbfgs": "bfgs"}
 
 
 def _multiple(scene) -> int:
@@ -76,7 +60,7 @@ def fit(
     stiffness,
     scene: jc.Scene,
     params=("D", "G"),
-    method: str = "bfgs",
+    method: AbstractMethod = BFGS(),
     *,
     n_starts: int = 12,
     seed: int = 0,
@@ -101,9 +85,8 @@ def fit(
       load, where the approach must then be 0).
     - `scene`: a `jaxcontact.Scene` supplying everything that is not fitted (and one start).
     - `params`: names of the fitted float fields: any of D, G, l_min, E, nu, H, area.
-    - `method`: "bfgs" (quasi-Newton BFGS on the mean squared log residual, scipy's L-BFGS-B;
-      "lbfgs", the name of earlier versions, is an alias) or "lm" (Levenberg–Marquardt on the
-      residual vector, MINPACK through `scipy.optimize.least_squares`).
+    - `method`: `BFGS()` (quasi-Newton BFGS on the mean squared log residual, scipy's L-BFGS-B) or
+      `LevenbergMarquardt()` (on the residual vector, MINPACK through `scipy.optimize.least_squares`).
     - `n_starts`: number of starts, optimised one after another; the scene's own values are one.
       Several are needed: where a_l crosses a regime boundary as the parameters move, the loss has
       kinks, and along the strongly correlated D–G valley a single start can stall at one.
@@ -133,9 +116,11 @@ def fit(
     **Returns:** a `FitResult`.
     """
     t0 = time.perf_counter()
-    method = ALIASES.get(method, method)
-    if method not in METHODS:
-        raise InputError(f"method = {method!r} is not one of {', '.join(map(repr, METHODS))}")
+    if isinstance(method, str) and method in METHODS:
+        name = METHODS[method].__name__
+        raise InputError(f"method = {method!r}: give the object, fitting.{name}() (names are for the command line)")
+    if not isinstance(method, AbstractMethod):
+        raise InputError(f"method = {method!r} must be fitting.BFGS() or fitting.LevenbergMarquardt()")
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)
@@ -151,8 +136,8 @@ def fit(
             f"{len(fitted)} parameters (a curve needs at least {len(fitted) + 1} different loads)"
         )
     if tol is None:
-        floor = scene.model.precision ** PRECISION_POWER[method]
-        tol = max(DEFAULT_TOLERANCE[method] if dtype == jnp.float64 else 1e-6, floor)
+        floor = scene.model.precision**method.precision_power
+        tol = max(method.tolerance if dtype == jnp.float64 else 1e-6, floor)
     own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
     if gaussian is not None:  # the prior's mean is the first start
         own_stat[list(gaussian.index)] = gaussian.first_start
@@ -175,7 +160,7 @@ def fit(
         # Stated noise is in the weights already: the weighted residuals are in units of σ.
         sigma = noise_scale(objective, u0s[0], 1.0 if stated else None, max_iter, tol, len(fitted))
         objective = PriorObjective(objective, gaussian, sigma)
-    outcomes = [RUNNERS[method](objective, u0, max_iter, tol) for u0 in u0s]
+    outcomes = [method.run(objective, u0, max_iter, tol) for u0 in u0s]
     u_all = np.stack([o.u for o in outcomes])
     losses = np.array([o.loss for o in outcomes])
     best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.inf)))
@@ -217,7 +202,7 @@ def fit(
         condition_number=result["condition"],
         loss=objective.loss(u_all[best]) if gaussian is None else _data_loss(result),
         start_losses=losses,
-        method=method,
+        method=method.name,
         scene=with_stat(scene, fitted, np.asarray(stat_hat)),
         describes_data=result["describes_data"],
         identifiability=result["identifiability"],

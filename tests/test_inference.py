@@ -197,7 +197,7 @@ def small_map_joint_fits():
     for seed in range(20):
         prior = characterise(synthesised_surface(D, G, L / 16, L, 64, seed))
         noisy = K * np.exp(0.03 * np.random.default_rng(seed).standard_normal(loads.size))
-        results.append(fitting.fit(loads, noisy, truth, n_starts=4, method="lm", prior=prior))
+        results.append(fitting.fit(loads, noisy, truth, n_starts=4, method=fitting.LevenbergMarquardt(), prior=prior))
     return D, G, results
 
 

@@ -179,3 +179,8 @@ def test_a_sweep_beyond_the_free_memory_is_refused_before_computing(tmp_path, ca
     argv = ["sweep", "--D", "1.3:1.7:100000", "--G", "1e-11:1e-9:100000", "--out", str(tmp_path), "--no-progress"]
     assert main(argv) == 2
     assert "points would need about" in capsys.readouterr().err
+
+
+def test_a_method_by_name_is_refused_with_its_object():
+    with refused_type("method", r"method = 'lm': give the object, fitting.LevenbergMarquardt\(\)"):
+        fitting.fit([1.0, 2.0, 3.0], [1e8, 2e8, 3e8], make_scene(**TABLE1), method="lm")

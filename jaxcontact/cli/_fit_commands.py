@@ -42,7 +42,7 @@ def cmd_fit(args) -> int:
         curve.stiffness,
         spec.scene,
         params=args.params,
-        method=args.method,
+        method=fitting.METHODS[args.method](),
         n_starts=args.starts,
         prior=prior,
         noise=args.noise,

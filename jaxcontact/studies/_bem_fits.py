@@ -109,7 +109,13 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, prior
                     # The BEM's fits are the costly ones; with a prior its mean is the first start.
                     starts = (2 if prior else 4) if options is None else 8
                     result = fitting.fit(
-                        F, K, begin, params=("D", "G"), method="lm", n_starts=starts, prior=surface if prior else None
+                        F,
+                        K,
+                        begin,
+                        params=("D", "G"),
+                        method=fitting.LevenbergMarquardt(),
+                        n_starts=starts,
+                        prior=surface if prior else None,
                     )
                     low, high = result.ci95["D"]
                     G_low, G_high = result.ci95["G"]

@@ -98,13 +98,13 @@ def fit(scene: Scene) -> dict:
 
     loads, K = _data(scene)
     start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (1.5, 1e-9))
-    fitting.fit(loads, K, start, method="lm")  # compile
-    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    fitting.fit(loads, K, start, method=fitting.LevenbergMarquardt())  # compile
+    fitting.fit(loads, K, start, method=fitting.LevenbergMarquardt(), n_starts=1)
     t = time.perf_counter()
-    ours = fitting.fit(loads, K, start, method="lm")
+    ours = fitting.fit(loads, K, start, method=fitting.LevenbergMarquardt())
     multi_s = time.perf_counter() - t
     t = time.perf_counter()
-    fitting.fit(loads, K, start, method="lm", n_starts=1)
+    fitting.fit(loads, K, start, method=fitting.LevenbergMarquardt(), n_starts=1)
     single_s = time.perf_counter() - t
 
     def residuals(th):
