@@ -24,7 +24,7 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
-from jaxcontact.numerics import float_array
+from jaxcontact.numerics import check_strategy, float_array
 
 from ._identifiability import profiles_of
 from ._observed import POINTS_MULTIPLE, observations
@@ -116,11 +116,7 @@ def fit(
     **Returns:** a `FitResult`.
     """
     t0 = time.perf_counter()
-    if isinstance(method, str) and method in METHODS:
-        name = METHODS[method].__name__
-        raise InputError(f"method = {method!r}: give the object, fitting.{name}() (names are for the command line)")
-    if not isinstance(method, AbstractMethod):
-        raise InputError(f"method = {method!r} must be fitting.BFGS() or fitting.LevenbergMarquardt()")
+    check_strategy("method", method, AbstractMethod, METHODS, "fitting")
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
     fitted: tuple[FitParameter, ...] = resolve(params)

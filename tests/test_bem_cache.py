@@ -33,7 +33,7 @@ def cache(solved, tmp_path):
 
 def entry_path(cache, surface, load):
     settings = bem.BEMSettings()
-    described = cache.surface_key(surface.heights(), surface.physical_sizes, E, "periodic", settings)
+    described = cache.surface_key(surface.heights(), surface.physical_sizes, E, bem.Periodic(), settings)
     return cache.path(cache.key(described, load))
 
 

@@ -33,7 +33,7 @@ def hertz():
     """A paraboloid (R = 1) on a free half-space (E* = 1), loaded to a contact radius of 51 grid spacings."""
     x, y = centred_grid(256)
     a = 0.2
-    return a, bem.solve(jnp.asarray(-(x * x + y * y) / 2), 1.0, 1.0, jnp.array([4 * a**3 / 3]), substrate="free")
+    return a, bem.solve(jnp.asarray(-(x * x + y * y) / 2), 1.0, 1.0, jnp.array([4 * a**3 / 3]), substrate=bem.Free())
 
 
 def test_hertz_contact_radius(hertz):
@@ -56,7 +56,7 @@ def test_a_flat_punch_has_the_stiffness_2Ea():
     x, y = centred_grid(256)
     a = 0.2
     heights = jnp.asarray(np.where(x * x + y * y <= a * a, 0.0, -1.0))
-    sol = bem.solve(heights, 1.0, 1.0, jnp.array([1e-3]), substrate="free")
+    sol = bem.solve(heights, 1.0, 1.0, jnp.array([1e-3]), substrate=bem.Free())
     np.testing.assert_allclose(float(sol.stiffness[0]), 2 * a, rtol=5e-3)
 
 
@@ -92,8 +92,8 @@ def test_a_free_half_space_agrees_with_contactmechanics():
     surface = bem.realisation(1.5, 1e-12, L / 16, L, 64, 1)
     topography = SurfaceTopography.Topography(surface.heights(), (L, L), periodic=False)
     load = LOADS[1:2]
-    mine = bem.solve(jnp.asarray(surface.heights()), L, E, jnp.asarray(load), substrate="free")
-    reference = bem.bem_stiffness(topography, E, load, substrate="free")
+    mine = bem.solve(jnp.asarray(surface.heights()), L, E, jnp.asarray(load), substrate=bem.Free())
+    reference = bem.bem_stiffness(topography, E, load, substrate=bem.Free())
     np.testing.assert_allclose(float(mine.stiffness[0]), reference.stiffness[0], rtol=1e-2)
 
 

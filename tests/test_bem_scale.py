@@ -16,7 +16,11 @@ L, E = 1e-3, 1e11
 LOAD = 1e-4 * E * L * L  # 12-13 % contact on this surface
 # (substrate, hardness, grid): the capped (12-19 % of the contact points at the cap) and free cases on
 # 128² (a free solve doubles the grid).
-CASES = {"elastic": ("periodic", None, 256), "capped": ("periodic", 1.5e8, 128), "free": ("free", None, 128)}
+CASES = {
+    "elastic": (bem.Periodic(), None, 256),
+    "capped": (bem.Periodic(), 1.5e8, 128),
+    "free": (bem.Free(), None, 128),
+}
 
 
 @functools.cache

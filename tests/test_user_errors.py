@@ -184,3 +184,8 @@ def test_a_sweep_beyond_the_free_memory_is_refused_before_computing(tmp_path, ca
 def test_a_method_by_name_is_refused_with_its_object():
     with refused_type("method", r"method = 'lm': give the object, fitting.LevenbergMarquardt\(\)"):
         fitting.fit([1.0, 2.0, 3.0], [1e8, 2e8, 3e8], make_scene(**TABLE1), method="lm")
+
+
+def test_a_substrate_by_name_is_refused_with_its_object():
+    with refused_type("substrate", r"substrate = 'free': give the object, bem.Free\(\)"):
+        bem.solve(np.zeros((16, 16)), 1e-4, 1e11, np.array([1.0]), substrate="free")

@@ -11,16 +11,21 @@ from ..models import register_model
 from ._cache import CacheWarning, ResultCache, default_directory
 from ._contact import ContactSolution, solve
 from ._model import BEM
+from ._operator import SUBSTRATES, AbstractSubstrate, Free, Periodic
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._study import REFERENCES, ReferenceCurves, jax_curve, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
 
 __all__ = [
+    "SUBSTRATES",
+    "AbstractSubstrate",
     "BEM",
     "BEMResult",
     "BEMSettings",
     "CacheWarning",
     "ContactSolution",
+    "Free",
+    "Periodic",
     "REFERENCES",
     "ReferenceCurves",
     "ResultCache",

@@ -97,7 +97,7 @@ class ResultCache:
             "grid": [int(n) for n in heights.shape],
             "size_m": [float(s) for s in sizes],
             "modulus_Pa": float(modulus),
-            "substrate": str(substrate),
+            "substrate": substrate.name,
             "settings": repr(settings),
         }
 

@@ -16,11 +16,11 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..models import CLOSED_INTERFACE
-from ..numerics._validate import check_choice, check_range
+from ..numerics._validate import check_range, check_strategy
 from ..quantities import Status
 from ._ccg import contact_cg
 from ._checks import check_arguments, check_iteration, valid_problem
-from ._operator import SUBSTRATES, Compliance
+from ._operator import SUBSTRATES, AbstractSubstrate, Compliance, Periodic
 from ._solver import secant_stiffness
 from ._tangent import frozen_solution
 
@@ -63,7 +63,7 @@ def solve(
     loads: Float[ArrayLike, " loads"],
     *,
     hardness=None,
-    substrate: str = "periodic",
+    substrate: AbstractSubstrate = Periodic(),
     tolerance: float | None = None,
     max_iterations: int = 2000,
     pressure: bool = False,
@@ -80,7 +80,7 @@ def solve(
     - `loads`: total normal loads, N, a 1-D array (solved in increasing order, each from the last
       one's pressure, and returned in the order given).
     - `hardness`: None (elastic), or the pressure cap H, Pa (perfectly plastic points flow at H).
-    - `substrate`: "periodic" (the map repeats; ContactMechanics's `stiffness_q0 = 0`) or "free"
+    - `substrate`: `Periodic()` (the map repeats; ContactMechanics's `stiffness_q0 = 0`) or `Free()`
       (an isolated map on an infinite half-space; the grid is doubled internally).
     - `tolerance`: on every gap condition, as a fraction of the heights' rms, in (0, 1e-5] (default
       1e-9 in float64, 1e-5 in float32); `max_iterations` (≥ 1) of the constrained conjugate
@@ -107,7 +107,7 @@ def solve(
     non-positive size, modulus, hardness or concrete loads, and for a tolerance outside (0, 1e-5] or
     `max_iterations` < 1.
     """
-    check_choice("substrate", substrate, SUBSTRATES)
+    check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
     check_arguments(heights, size, modulus, loads, hardness)
     check_iteration(tolerance, max_iterations)
     dtype = jnp.result_type(heights, loads, 1.0)
@@ -135,7 +135,9 @@ class GridProblem(eqx.Module):
     preconditioned: bool = eqx.field(static=True, default=True)
 
     @classmethod
-    def build(cls, heights, size, modulus, hardness, substrate: str, preconditioned: bool = True) -> GridProblem:
+    def build(
+        cls, heights, size, modulus, hardness, substrate: AbstractSubstrate, preconditioned: bool = True
+    ) -> GridProblem:
         """`hardness` None is the elastic contact (known before tracing: the iteration then has no
         plastic branch to carry); `preconditioned`, the iteration's search (`_ccg.contact_cg`)."""
         n = heights.shape[-1]

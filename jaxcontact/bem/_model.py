@@ -16,6 +16,7 @@ from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration
 from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, stand_in_loads, sweep_sides
+from ._operator import Periodic
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights
@@ -90,7 +91,7 @@ class BEM(AbstractSweptModel):
         hardness = jnp.exp(s.log_hardness) if self.plastic else None
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
         build = GridProblem.build
-        problems = jax.vmap(lambda h: build(h, 1.0, 1.0, hardness, "periodic", self.preconditioned))(heights)
+        problems = jax.vmap(lambda h: build(h, 1.0, 1.0, hardness, Periodic(), self.preconditioned))(heights)
         tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
         step = self.relative_step
         sides = (-step, step) if step > 0 else (0.0,)

@@ -14,15 +14,15 @@ The discretisation is ContactMechanics's (docs/model.md §10), so that the two a
 
 from __future__ import annotations
 
+import abc
 import functools
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
-
-SUBSTRATES = ("periodic", "free")
 
 
 @functools.cache
@@ -66,6 +66,62 @@ def _stiffness_kernel(n: int) -> np.ndarray:
     return inverse
 
 
+class AbstractSubstrate(eqx.Module):
+    """The elastic half-space under a map: how the map's edges are treated.
+
+    **Class attributes:** `name` (reports, cache keys, the command line's `--substrate`), `padded`
+    (whether the grid is doubled in each direction).
+    """
+
+    name: eqx.AbstractClassVar[str]
+    padded: eqx.AbstractClassVar[bool]
+
+    @abc.abstractmethod
+    def kernel(self, n: int) -> np.ndarray:
+        """The compliance's rfft2 kernel for an n × n map (grid units; 2n × 2n where `padded`)."""
+
+    @abc.abstractmethod
+    def reference(self, topography, modulus: float):
+        """The same half-space in ContactMechanics (the independent reference, `bem_stiffness`)."""
+
+
+class Periodic(AbstractSubstrate):
+    """The map repeats: the point Green's function `2/(E |q|)`, with the q = 0 compliance zero
+    (ContactMechanics's `PeriodicFFTElasticHalfSpace` with `stiffness_q0 = 0`)."""
+
+    name: ClassVar[str] = "periodic"
+    padded: ClassVar[bool] = False
+
+    def kernel(self, n: int) -> np.ndarray:
+        return _periodic_kernel(n)
+
+    def reference(self, topography, modulus: float):
+        from ContactMechanics import PeriodicFFTElasticHalfSpace
+
+        sizes = topography.physical_sizes
+        return PeriodicFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=sizes, stiffness_q0=0.0)
+
+
+class Free(AbstractSubstrate):
+    """An isolated map on an infinite half-space: Love's pixel kernel on a grid doubled in each
+    direction (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
+
+    name: ClassVar[str] = "free"
+    padded: ClassVar[bool] = True
+
+    def kernel(self, n: int) -> np.ndarray:
+        return _free_kernel(n)
+
+    def reference(self, topography, modulus: float):
+        from ContactMechanics import FreeFFTElasticHalfSpace
+
+        return FreeFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes)
+
+
+# The command line's names.
+SUBSTRATES = {"periodic": Periodic, "free": Free}
+
+
 class Compliance(eqx.Module):
     """`u = C p` on an n × n grid (grid units above), periodic or free. Symmetric positive semidefinite
     (definite for "free"; for "periodic" its null space is the constant pressure)."""
@@ -76,12 +132,11 @@ class Compliance(eqx.Module):
     free: bool = eqx.field(static=True)
 
     @classmethod
-    def build(cls, n: int, substrate: str, dtype) -> Compliance:
+    def build(cls, n: int, substrate: AbstractSubstrate, dtype) -> Compliance:
         stiffness = jnp.asarray(_stiffness_kernel(n), dtype)
-        if substrate == "periodic":
-            return cls(jnp.asarray(_periodic_kernel(n), dtype), stiffness, n, False)
-        complex_dtype = jnp.result_type(dtype, jnp.complex64)
-        return cls(jnp.asarray(_free_kernel(n), complex_dtype), stiffness, n, True)
+        kernel = substrate.kernel(n)
+        kernel_dtype = jnp.result_type(dtype, jnp.complex64) if np.iscomplexobj(kernel) else dtype
+        return cls(jnp.asarray(kernel, kernel_dtype), stiffness, n, substrate.padded)
 
     def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:
         """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in

@@ -19,11 +19,10 @@ import equinox as eqx
 import numpy as np
 
 from ..models import CLOSED_INTERFACE
-from ..numerics._validate import InputError, check_choice, check_range, optional_import, spelled
+from ..numerics._validate import InputError, check_range, check_strategy, optional_import, spelled
 from ..quantities import Status
 from ._cache import ResultCache
-
-SUBSTRATES = ("periodic", "free")
+from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
 
 
 class BEMSettings(eqx.Module):
@@ -73,26 +72,18 @@ def secant_stiffness(load, step: float, rise):
     return 2.0 * load * math.sinh(step) / rise
 
 
-def _substrate(topography, modulus: float, substrate: str | None):
-    cm = optional_import("ContactMechanics", "the boundary-element reference")
-
+def _substrate(topography, substrate: AbstractSubstrate | None) -> AbstractSubstrate:
     if substrate is None:
         if not topography.is_periodic:
-            free = spelled("substrate = 'free'", "--substrate free")
-            periodic = spelled("substrate = 'periodic'", "--substrate periodic")
+            free = spelled("substrate = bem.Free()", "--substrate free")
+            periodic = spelled("substrate = bem.Periodic()", "--substrate periodic")
             raise InputError(
                 f"the topography is not periodic: choose {free} (an isolated half-space; the grid is doubled) "
                 f"or {periodic} (the map repeated; its edges then meet as a step)"
             )
-        substrate = "periodic"
-    check_choice("substrate", substrate, SUBSTRATES)
-    if substrate == "periodic":
-        return cm.PeriodicFFTElasticHalfSpace(
-            topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes, stiffness_q0=0.0
-        ), substrate
-    return cm.FreeFFTElasticHalfSpace(
-        topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes
-    ), substrate
+        return Periodic()
+    check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
+    return substrate
 
 
 def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
@@ -133,7 +124,7 @@ def bem_stiffness(
     modulus: float,
     loads,
     *,
-    substrate: str | None = None,
+    substrate: AbstractSubstrate | None = None,
     settings: BEMSettings = BEMSettings(),
     cache: ResultCache | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -146,8 +137,8 @@ def bem_stiffness(
       `synthesised_surface`).
     - `modulus`: the contact modulus E, Pa (`young` of ContactMechanics).
     - `loads`: total normal loads, N, each finite and > 0.
-    - `substrate`: "periodic" (the map repeats; `stiffness_q0 = 0`) or "free" (an isolated
-      half-space). None takes "periodic" for a periodic map and refuses a non-periodic one.
+    - `substrate`: `Periodic()` (the map repeats; `stiffness_q0 = 0`) or `Free()` (an isolated
+      half-space). None takes `Periodic()` for a periodic map and refuses a non-periodic one.
     - `settings`: `BEMSettings` (difference step, tolerance, iteration cap).
     - `cache`: a `ResultCache`; each load's result is kept on disk keyed by every input, and an
       entry that fails its check is recomputed (with a `CacheWarning`), never used.
@@ -163,8 +154,8 @@ def bem_stiffness(
     if loads.size == 0:
         raise InputError("loads is empty: give at least one load (valid range (0, inf) N)")
     check_range("loads", loads, 0.0)
-    half_space, substrate = _substrate(topography, float(modulus), substrate)
-    system = make_system(substrate=half_space, surface=topography)
+    substrate = _substrate(topography, substrate)
+    system = make_system(substrate=substrate.reference(topography, float(modulus)), surface=topography)
     heights = topography.heights()
     pentol = settings.penetration_tolerance * float(np.std(heights)) / float(np.mean(topography.nb_grid_pts))
     rows = []

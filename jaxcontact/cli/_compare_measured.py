@@ -48,7 +48,7 @@ def compare_measured(args, out, cache, progress) -> int:
     import equinox as eqx
     import numpy as np
 
-    from ..bem import ReferenceCurves, bem_stiffness
+    from ..bem import SUBSTRATES, ReferenceCurves, bem_stiffness
     from ..studies._compare import Comparison, loads_for_fractions, model_curves
     from ._report import write_csv
     from ._surface_commands import characterise_file
@@ -64,8 +64,9 @@ def compare_measured(args, out, cache, progress) -> int:
     surface = eqx.tree_at(lambda s: s.l_min, c.surface, l_min)
     scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (surface, np.asarray(lx * ly)))
     loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
+    substrate = None if args.substrate is None else SUBSTRATES[args.substrate]()
     result = bem_stiffness(
-        topography, float(scene.material.E), loads, substrate=args.substrate, cache=cache, progress=progress
+        topography, float(scene.material.E), loads, substrate=substrate, cache=cache, progress=progress
     )
     # One measured surface: no spread over realisations, no grid check.
     reference = ReferenceCurves((result,), seeds=(0,), grid=result.grid[0], convergence=None)

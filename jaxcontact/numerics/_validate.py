@@ -171,6 +171,19 @@ def check_instance(name: str, value, kind: type) -> None:
         raise InputError(f"{name} = {value!r} must be a {kind.__name__} (see jaxcontact.{kind.__name__})")
 
 
+def check_strategy(name: str, value, base: type, names: dict[str, type], face: str) -> None:
+    """Raise `ValueError` unless `value` is a `base` (a strategy passed as an object); a name of
+    `names` (the command line's) is refused with the object it stands for, `face.Class()`."""
+    if isinstance(value, base):
+        return
+    if isinstance(value, str) and value in names:
+        raise InputError(
+            f"{name} = {value!r}: give the object, {face}.{names[value].__name__}() (names are for the command line)"
+        )
+    options = " or ".join(f"{face}.{kind.__name__}()" for kind in dict.fromkeys(names.values()))
+    raise InputError(f"{name} = {value!r} must be {options}")
+
+
 def decoded_text(data: bytes) -> tuple[str, str | None]:
     """A text file's bytes as text: UTF-8 (a byte-order mark dropped), else Latin-1, which instrument and
     lab software writes ("µm", "é" in a comment); and where it is not UTF-8 ("line 4 has the byte
