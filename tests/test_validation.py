@@ -1,5 +1,8 @@
 """Bad configuration raises ValueError naming the parameter, its value and its valid range."""
 
+import re
+
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -134,3 +137,26 @@ def test_a_scene_with_array_parameters_is_refused_by_solve_with_the_way_to_batch
     scene = jc.Scene(jc.Surface(D=[1.3, 1.4], G=1e-10), jc.Material(2e11, 0.3, 1e11), 1e-4)
     with pytest.raises(jc.InputError, match=r"D has shape \(2,\): solve takes one scene.*jax.vmap"):
         jc.solve(scene, 10.0)
+
+
+# F* = 10 (above E A_a: more than full contact could carry) beside two valid loads.
+THROWN_LOADS = np.array([10.0, 10.0 * TABLE1["E"] * TABLE1["area"], 100.0])
+
+
+def test_throw_names_each_point_without_a_valid_result(table1_scene):
+    named = re.escape(f"loads[1] = {THROWN_LOADS[1]:.6g} N: LOAD_OUT_OF_RANGE")
+    with pytest.raises(jc.StatusError, match=rf"1 of 3 points .*{named}"):
+        jc.solve(table1_scene, THROWN_LOADS, throw=True)
+
+
+def test_throw_leaves_a_valid_solve_as_it_is(table1_scene):
+    loads = THROWN_LOADS[[0, 2]]
+    thrown = jc.solve(table1_scene, loads, throw=True).stiffness
+    np.testing.assert_array_equal(np.asarray(thrown), np.asarray(jc.solve(table1_scene, loads).stiffness))
+
+
+def test_throw_under_jit_raises_the_status_message():
+    scene = make_scene(**{**TABLE1, "interaction": "none"})
+    solved = jax.jit(lambda F: jc.solve(scene, F, throw=True).stiffness)
+    with pytest.raises(Exception, match=re.escape(jc.Status.LOAD_OUT_OF_RANGE.message)):
+        solved(jnp.asarray(THROWN_LOADS)).block_until_ready()

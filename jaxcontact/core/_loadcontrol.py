@@ -18,7 +18,7 @@ from jaxtyping import Array, Bool, Float
 
 from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
-from ..numerics import LoadsLike
+from ..numerics import InputError, LoadsLike
 from ..numerics._elementwise import unrolled_sum
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
@@ -27,7 +27,7 @@ from ._defaults import table1_values
 from ._prepare import _prepare
 from ._scene import Scene
 from ._settings import NewtonBisection, Outputs
-from ._solution import Solution, is_solved, masked_rescale
+from ._solution import Solution, is_solved, masked_rescale, thrown
 
 
 def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
@@ -156,6 +156,7 @@ def solve(
     *,
     outputs: Outputs = DEFAULT_OUTPUTS,
     solver: NewtonBisection = DEFAULT_SOLVER,
+    throw: bool = False,
 ) -> Solution:
     """Normal contact stiffness of the joint at each load (docs/model.md §4, Eqs. 30–39).
 
@@ -167,6 +168,9 @@ def solve(
       splits load and stiffness by regime; `Outputs(regime_shares=False)` spends nothing on it.
     - `solver`: the per-load solve of the model's state, `NewtonBisection(max_steps=64,
       tolerance=None)` (64 ε of the working dtype).
+    - `throw`: raise where a point has no valid result instead of flagging it: a `StatusError`
+      naming the points and their statuses, or under `jit` a runtime error with the first bad
+      point's `Status.message`.
 
     **Returns:** a `Solution` with one entry per load. Points that cannot be computed (load out of
     range, interaction breakdown, unconverged solve, a traced non-positive load) carry a non-zero
@@ -178,5 +182,8 @@ def solve(
 
     **Raises:** `ValueError` for concrete loads that are negative, zero or not finite.
     """
+    if not isinstance(throw, bool):
+        raise InputError(f"throw = {throw!r} must be true or false")
     _, leaves, treedef, loads = _prepare(scene, loads, outputs, solver)
-    return programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef), pad=scene.model.pad_loads)
+    solution = programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef), pad=scene.model.pad_loads)
+    return thrown(solution) if throw else solution

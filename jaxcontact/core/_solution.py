@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float, Int
 
 from ..numerics._compat import namespace
-from ..quantities import Scales, Status
+from ..quantities import Scales, Status, StatusError
 
 
 class Solution(eqx.Module):
@@ -95,3 +98,32 @@ def masked_rescale(mask, value, scale=1.0):
     """
     xp = namespace(mask, value, scale)
     return xp.where(mask, xp.where(mask, value, 0.0) * scale, xp.nan)
+
+
+# How many bad points an eager `solve(..., throw=True)` names.
+_NAMED = 5
+
+
+def thrown(solution: Solution) -> Solution:
+    """`solution`, or an error where a point's status is not OK: a `StatusError` naming the points
+    and their statuses for concrete results; under a trace, a runtime error with the first bad
+    point's status message (`equinox.branched_error_if`)."""
+    status = solution.status
+    if isinstance(status, jax.core.Tracer) or isinstance(solution.load, jax.core.Tracer):
+        flat = jnp.ravel(status)
+        messages = [f"solve: a point has status {code.name}: {code.message}" for code in Status]
+        return eqx.branched_error_if(
+            solution, jnp.any(flat != Status.OK), flat[jnp.argmax(flat != Status.OK)], messages
+        )
+    codes = np.asarray(status)
+    bad = np.argwhere(codes != Status.OK)
+    if bad.size == 0:
+        return solution
+    loads = np.asarray(solution.load)
+    named = [
+        f"loads[{', '.join(map(str, index))}] = {loads[tuple(index)]:.6g} N: {Status(int(codes[tuple(index)])).name}"
+        for index in bad[:_NAMED]
+    ]
+    more = f" and {len(bad) - _NAMED} more" if len(bad) > _NAMED else ""
+    meanings = "; ".join(f"{code.name}: {code.message}" for code in sorted({Status(int(c)) for c in codes[codes != 0]}))
+    raise StatusError(f"{len(bad)} of {codes.size} points have no valid result ({'; '.join(named)}{more}). {meanings}")

@@ -6,7 +6,7 @@ from ._domain import PARAMETERS, ParameterSpec, implausible
 from ._pair import contact_modulus, tangential_contact_modulus
 from ._parameters import Material, Surface
 from ._scales import DimensionlessScene, Scales, nondimensionalise
-from ._status import Status, status_message
+from ._status import Status, StatusError, status_message
 
 __all__ = [
     "DimensionlessScene",
@@ -17,6 +17,7 @@ __all__ = [
     "ParameterSpec",
     "Scales",
     "Status",
+    "StatusError",
     "status_message",
     "Surface",
     "contact_modulus",

@@ -39,6 +39,27 @@ class Status(enum.IntEnum):
     INVALID_PARAMETERS = 5
     UNRESOLVED_LOAD = 6
 
+    @property
+    def message(self) -> str:
+        """What the code means, in a sentence (the messages of `solve(..., throw=True)`)."""
+        return _MESSAGES[self]
+
+
+_MESSAGES = {
+    Status.OK: "the point is valid",
+    Status.LOAD_OUT_OF_RANGE: "the load is outside the model's range (a largest spot beyond the nominal area or "
+    "below the smallest asperity, a nominal pressure above E, or a closed interface)",
+    Status.INTERACTION_BREAKDOWN: "the 'paper' interaction breaks down: ω' vanishes inside the stiffness range",
+    Status.NOT_CONVERGED: "the solve ran out of steps (NewtonBisection's max_steps, or the BEM's max_iterations)",
+    Status.INVALID_LOAD: "the load is not a positive finite number",
+    Status.INVALID_PARAMETERS: "a scene parameter lies outside its valid range",
+    Status.UNRESOLVED_LOAD: "the load is too small to resolve in this precision (use float64, or larger loads)",
+}
+
+
+class StatusError(RuntimeError):
+    """A point of `solve(..., throw=True)` has no valid result; the message names its status."""
+
 
 def status_message(code: int | np.integer | Int[ArrayLike, ""]) -> str:
     """A short name for a status code, e.g. for tables: "ok", "interaction_breakdown", ..."""
