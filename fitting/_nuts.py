@@ -6,14 +6,13 @@ Generic over the log density: `jaxcontact.fitting._posterior` gives it the model
 from __future__ import annotations
 
 import dataclasses
-import functools
 import time
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxcontact.numerics import optional_import
+from jaxcontact.numerics import cached, optional_import
 
 
 @dataclasses.dataclass(frozen=True)
@@ -84,7 +83,7 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
     )
 
 
-@functools.cache
+@cached
 def _diagnostics(blackjax):
     """`positions` (chains, draws, dimension) ↦ (ESS, R-hat) per dimension, as one compiled program."""
 

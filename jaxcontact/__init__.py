@@ -45,6 +45,7 @@ from .numerics import (
     PlausibilityWarning,
     PowerLaw,
     PowerSeries,
+    clear_caches,
     solve_increasing,
 )
 from .physics import (
@@ -158,6 +159,7 @@ __all__ = [
     "solve_increasing",
     # Built on the stiffness
     *_LAZY,
+    "clear_caches",
 ]
 
 

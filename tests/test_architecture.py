@@ -237,3 +237,31 @@ def test_docs_architecture_lists_every_exported_name(package):
     text = (ROOT / "docs" / "architecture.md").read_text()
     exported = importlib.import_module(package).__all__
     assert [n for n in exported if not re.search(rf"`[^`]*\b{re.escape(n)}\b[^`]*`", text)] == []
+
+
+def test_every_functools_cache_of_the_library_is_registered_for_clear_caches():
+    """A cache made with `functools` directly would survive `jc.clear_caches()`: the library makes
+    them with `numerics.cached`."""
+    import re
+
+    sources = [path for path, _ in MODULES.values() if path.name != "_caches.py"]
+    made = [str(p.relative_to(ROOT)) for p in sources if re.search(r"functools\.(cache|lru_cache)\b", p.read_text())]
+    assert made == []
+
+
+def test_clear_caches_empties_every_registered_cache(monkeypatch):
+    import jaxcontact as jc
+    from jaxcontact.numerics import _caches
+
+    monkeypatch.setattr(_caches, "_CLEARERS", [])
+    calls = []
+
+    @_caches.cached
+    def square(x):
+        calls.append(x)
+        return x * x
+
+    square(3)
+    jc.clear_caches()
+    square(3)
+    assert calls == [3, 3]

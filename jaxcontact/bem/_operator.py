@@ -15,7 +15,6 @@ The discretisation is ContactMechanics's (docs/model.md §10), so that the two a
 from __future__ import annotations
 
 import abc
-import functools
 import math
 from typing import ClassVar
 
@@ -24,8 +23,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
 
+from ..numerics import cached
 
-@functools.cache
+
+@cached
 def _periodic_kernel(n: int) -> np.ndarray:
     """`2/|q|` on the rfft2 grid of an n × n map (q in rad per grid spacing), 0 at q = 0."""
     k = np.fft.fftfreq(n) * 2 * math.pi
@@ -36,7 +37,7 @@ def _periodic_kernel(n: int) -> np.ndarray:
     return kernel
 
 
-@functools.cache
+@cached
 def _free_kernel(n: int) -> np.ndarray:
     """The rfft2 of Love's pixel kernel on the 2n × 2n grid (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
     a = b = 0.5
@@ -56,7 +57,7 @@ def _free_kernel(n: int) -> np.ndarray:
     return np.fft.rfft2(real)
 
 
-@functools.cache
+@cached
 def _stiffness_kernel(n: int) -> np.ndarray:
     """`|q|/2` on the rfft2 grid of an n × n map, the periodic compliance's inverse, with the q = 0
     entry (where the compliance is 0) set to the smallest nonzero value, so that it is definite."""

@@ -13,18 +13,18 @@ the surface, and so every result, piecewise constant in l_min (a mode is in or o
 
 from __future__ import annotations
 
-import functools
 import math
 
 import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import erfc
 
+from ..numerics import cached
 from ..physics._spectrum import log_areal_prefactor
 from ._study import SYNTHESIS_GRID
 
 
-@functools.cache
+@cached
 def noise(seed: int, grid: int) -> np.ndarray:
     """The seed's white noise, as `fourier_synthesis` draws and symmetrises it on the synthesis grid,
     truncated to `grid` (complex, numpy's fft2 layout), times `grid²` (numpy's ifft2 normalisation)."""
@@ -45,7 +45,7 @@ def noise(seed: int, grid: int) -> np.ndarray:
     return full[np.ix_(kept, kept)] * grid * grid
 
 
-@functools.cache
+@cached
 def _wavevectors(grid: int) -> np.ndarray:
     """|q| L on the grid's fft2 layout."""
     k = np.fft.fftfreq(grid, 1.0 / grid)

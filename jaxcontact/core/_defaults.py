@@ -7,8 +7,9 @@ reads its values from here.
 
 from __future__ import annotations
 
-import functools
 import importlib.resources
+
+from ..numerics import cached
 
 try:
     import tomllib
@@ -18,7 +19,7 @@ except ModuleNotFoundError:  # Python < 3.11
 DEFAULT_SCENE_FILE = "table1_grinding.toml"
 
 
-@functools.cache
+@cached
 def table1_values() -> dict[str, float]:
     """D, G, l_min (m), E, H (Pa), nu and area (m²) of the embedded default scene."""
     text = importlib.resources.files("jaxcontact").joinpath("scenes", DEFAULT_SCENE_FILE).read_text()

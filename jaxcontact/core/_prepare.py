@@ -8,6 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..numerics import register_cache
 from ..numerics._compat import top_level
 from ..numerics._validate import InputError, check_instance, concrete
 from ..quantities._domain import PARAMETERS, scene_fields
@@ -140,6 +141,14 @@ def _prepare(scene: Scene, loads, outputs: Outputs = Outputs(), solver: NewtonBi
     if isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer) and top_level():
         _last_loads = (loads, dtype, prepared)
     return tree, leaves, treedef, prepared
+
+
+@register_cache
+def _forget() -> None:
+    global _last_loads
+    _DTYPES.clear()
+    _last_scene.clear()
+    _last_loads = (None, None, None)
 
 
 def prepare(scene: Scene, loads):

@@ -18,13 +18,12 @@ Load control solves `F(h) = F` for `h` (`dI_n/dh = -n I_{n-1}`, so `K = -dF/dd` 
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import ClassVar
 
 import jax.numpy as jnp
 
-from ..numerics import solve_increasing
+from ..numerics import cached, solve_increasing
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
@@ -37,7 +36,7 @@ H_LOWEST, H_HIGHEST = -1.0, 40.0
 LAGUERRE_NODES = 96
 
 
-@functools.cache
+@cached
 def _laguerre(order: float):
     from scipy import special  # only where GW is used: scipy.special takes ~0.3 s to import
 

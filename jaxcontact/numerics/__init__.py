@@ -2,6 +2,7 @@
 "paper" interaction's pole integral, a safeguarded monotone root-finder, input validation, and
 what differs between the JAX versions supported."""
 
+from ._caches import cached, clear_caches, register_cache
 from ._compat import x64
 from ._powerlaw import PowerLaw, exponential_integral
 from ._quadrature import (
@@ -38,6 +39,9 @@ __all__ = [
     "decoded_text",
     "LoadsLike",
     "check_strategy",
+    "cached",
+    "clear_caches",
+    "register_cache",
     "float_array",
     "optional_import",
     "exponential_integral",

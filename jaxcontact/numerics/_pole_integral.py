@@ -18,7 +18,6 @@ exact to round-off right up to breakdown.
 
 from __future__ import annotations
 
-import functools
 import math
 
 import equinox as eqx
@@ -26,6 +25,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
+
+from ._caches import cached
 
 # u^48 / (1 - u) at u = 1/2 is 7e-15 of the first term; |C(p, k)| / k falls at least like k^(-4).
 NEAR_ZERO_TERMS = 48
@@ -36,7 +37,7 @@ DEGREE = 20
 _LOG_SWITCH = math.log(0.5)
 
 
-@functools.cache  # built on first use, not at import (~0.1 s)
+@cached  # built on first use, not at import (~0.1 s)
 def _economisation(terms: int) -> np.ndarray:
     """Matrix taking the coefficients of `Σ c_n x^n` (n < terms, x in [0, 1/2]) to those of its
     degree-`DEGREE` Chebyshev truncation, as a polynomial in `y = 4x - 1`."""

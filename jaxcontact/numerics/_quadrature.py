@@ -8,7 +8,6 @@ smooth and slowly varying.
 from __future__ import annotations
 
 import abc
-import functools
 import typing
 from typing import ClassVar
 
@@ -17,11 +16,12 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from ._caches import cached
 from ._pole_integral import PoleIntegral
 from ._validate import InputError
 
 
-@functools.cache
+@cached
 def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """Nodes and weights on [-1, 1] (numpy's `leggauss`, computed once per node count)."""
     return np.polynomial.legendre.leggauss(nodes)

@@ -19,17 +19,16 @@ Per-program options, so that no global setting changes; other backends ignore th
 
 from __future__ import annotations
 
-import functools
-
 import jax
 import numpy as np
 
+from ..numerics import cached
 from ..numerics._compat import top_level
 
 FAST_COMPILE = {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 1}
 
 
-@functools.cache
+@cached
 def compiler_options() -> dict:
     """`FAST_COMPILE` where this jaxlib knows the options, else none (checked once per process)."""
     try:

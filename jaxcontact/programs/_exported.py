@@ -34,6 +34,7 @@ import jax
 import numpy as np
 from jax import export  # a submodule that older JAX does not import with `jax`
 
+from ..numerics import cached, register_cache
 from ._compiling import FastCompile, compiler_options
 
 logger = logging.getLogger(__name__)
@@ -55,6 +56,12 @@ def exported_programs(directory):
         while _keeping:
             _keeping.pop().join()
         _directory = before
+
+
+@register_cache
+def _forget_sources() -> None:
+    global _source_digest
+    _source_digest = None
 
 
 def _sources() -> str:
@@ -143,7 +150,7 @@ def _write(path: pathlib.Path, payload: bytes | bytearray) -> None:
     partial.replace(path)  # atomic: a concurrent reader sees all of it or nothing
 
 
-@functools.cache
+@cached
 def _host() -> str:
     """A digest of what compiled machine code depends on: the CPU (its feature flags, where the
     system lists them), the platform and jaxlib's version."""

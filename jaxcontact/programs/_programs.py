@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..numerics import cached
 from ..numerics._compat import top_level
 from . import _exported as exported
 
@@ -93,7 +94,7 @@ def _output_tree(compiled: _Program, output_tree, leaves):
     return compiled.output_tree
 
 
-@functools.lru_cache(maxsize=64)
+@cached(maxsize=64)
 def program(function, treedef) -> _Program:
     """The cached program of `function` for trees of structure `treedef`."""
     return _Program(function, treedef)
@@ -128,7 +129,7 @@ def padded(loads):
     return _pad(loads, size)
 
 
-@functools.lru_cache(maxsize=256)
+@cached(maxsize=256)
 def _unpad(size: int, shape: tuple[int, ...]):
     """One jitted cut of the padded per-load outputs back to `shape`, and the per-call outputs
     reshaped to broadcast against it (one dispatch for all of them)."""
