@@ -17,7 +17,6 @@ import time
 import jax
 import jax.numpy as jnp
 import numpy as np
-from scipy import special
 
 import jaxcontact as jc
 from jaxcontact import InputError
@@ -27,7 +26,7 @@ from jaxcontact.numerics import float_array
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
 from ._residuals import residuals_and_status
-from ._statistics import NOTHING_DETERMINED, bounds_reached, nothing_determined
+from ._statistics import NOTHING_DETERMINED, bounds_reached, nothing_determined, stderr_and_interval, student_t
 
 
 @dataclasses.dataclass(frozen=True)
@@ -260,12 +259,10 @@ def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time)
                 inverse = np.linalg.inv(JTJ)
                 spread = np.sqrt(np.diag(inverse))
                 correlation[c] = inverse / np.outer(spread, spread)
-                t = special.stdtrit(n - p, 0.975)
+                t = student_t(n - p)
                 for i, q in enumerate(fitted):
                     se = math.sqrt(s2 * inverse[i, i])
-                    stderr[q.name][c] = values[q.name][c] * se if q.log else se
-                    lo, hi = float(q.from_stat(stat[c, i] - t * se)), float(q.from_stat(stat[c, i] + t * se))
-                    ci95[q.name][c] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
+                    stderr[q.name][c], ci95[q.name][c] = stderr_and_interval(q, stat[c, i], se, t)
                 found = combinations(fitted, JTJ / s2)
                 determined[c] = [f.determined for f in found]
                 if nothing_determined(found):

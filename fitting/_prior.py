@@ -21,6 +21,7 @@ from jaxcontact.numerics import float_array
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
 from ._spectral_prior import decorrelated, spectral_coordinates, spectral_jacobian
+from ._statistics import NORMAL_975, stderr_and_interval
 
 # Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
 NOISE_FLOOR = 1e-3
@@ -198,10 +199,7 @@ def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):
     spread = np.sqrt(np.diag(covariance))
     stderr, ci95 = {}, {}
     for i, p in enumerate(fitted):
-        value = result["values"][p.name]
-        stderr[p.name] = value * spread[i] if p.log else spread[i]
-        lo, hi = (float(p.from_stat(stat_hat[i] + k * 1.959964 * spread[i])) for k in (-1, 1))
-        ci95[p.name] = (lo, hi) if p.log else (max(lo, p.low), min(hi, p.high))
+        stderr[p.name], ci95[p.name] = stderr_and_interval(p, stat_hat[i], spread[i], NORMAL_975)
     if not result["describes_data"]:  # no interval for a model that does not describe the curve
         stderr = dict.fromkeys(stderr, math.nan)
         ci95 = dict.fromkeys(ci95, (math.nan, math.nan))

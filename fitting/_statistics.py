@@ -89,6 +89,27 @@ def inner_bounds(p: FitParameter):
     return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
 
 
+def student_t(dof: int) -> float:
+    """The 97.5 % quantile of Student's t with `dof` degrees of freedom (NaN for none)."""
+    return float(special.stdtrit(dof, 0.975)) if dof > 0 else math.nan  # scipy.stats costs 1 s to import
+
+
+NORMAL_975 = 1.959964  # the normal distribution's 97.5 % quantile
+
+
+def stderr_and_interval(q: FitParameter, stat: float, se: float, quantile: float) -> tuple[float, tuple[float, float]]:
+    """A parameter's standard error and interval `stat ± quantile · se` in physical units, from its
+    statistical coordinate `stat` and that coordinate's standard error `se`: a scale's (ln
+    coordinates) is the delta method's value · se and exp of the ends; a linear coordinate's interval
+    stays inside the parameter's domain (D in (1, 2))."""
+    value = float(q.from_stat(stat))
+    with np.errstate(over="ignore"):
+        lo, hi = float(q.from_stat(stat - quantile * se)), float(q.from_stat(stat + quantile * se))
+    if q.log:
+        return value * se, (lo, hi)
+    return se, (max(lo, q.low), min(hi, q.high))
+
+
 def statistics(scene, params, loads, data, stat_hat) -> dict:
     """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
 
@@ -134,16 +155,12 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
             )
     else:
         warnings.append(f"{n} usable points for {p} parameters: no uncertainty can be estimated")
-    t = special.stdtrit(dof, 0.975) if dof > 0 else math.nan  # Student-t quantile (scipy.stats costs 1 s to import)
+    t = student_t(dof)
     values, stderr, ci95 = {}, {}, {}
     for i, q in enumerate(params):
         s, se = float(stat_hat[i]), math.sqrt(covariance[i, i]) if np.isfinite(covariance[i, i]) else math.nan
         values[q.name] = float(q.from_stat(s))
-        stderr[q.name] = values[q.name] * se if q.log else se
-        with np.errstate(over="ignore"):
-            lo, hi = float(q.from_stat(s - t * se)), float(q.from_stat(s + t * se))
-        # A linear coordinate's interval stays inside the parameter's domain (D in (1, 2)).
-        ci95[q.name] = (lo, hi) if q.log else (max(lo, q.low), min(hi, q.high))
+        stderr[q.name], ci95[q.name] = stderr_and_interval(q, s, se, t)
     bounds = bounds_reached(params, stat_hat, r_used, J)
     warnings += bounds
     found = combinations(params, information) if np.all(np.isfinite(information)) else ()
