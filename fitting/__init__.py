@@ -12,6 +12,7 @@ from ._identifiability import Combination, Profile
 from ._optimise import BFGS, METHODS, AbstractMethod, LevenbergMarquardt
 from ._parameters import PARAMETERS, FitParameter, resolve
 from ._posterior import Posterior, sample
+from ._prior import AbstractPrior, Bounds, Normal
 from ._residuals import FLAGGED_RESIDUAL, log_residuals
 from ._resonance import fit_resonance
 from ._result import FitResult
@@ -29,6 +30,9 @@ __all__ = [
     "Profile",
     "METHODS",
     "AbstractMethod",
+    "AbstractPrior",
+    "Bounds",
+    "Normal",
     "BFGS",
     "LevenbergMarquardt",
     "FLAGGED_RESIDUAL",

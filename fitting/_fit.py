@@ -101,11 +101,11 @@ def fit(
       than 0.01 (the parameters within 0.1 standard errors of the optimum).
     - `starts`: explicit starts, an array of shape (n, len(params)) of physical values.
     - `prior`: what is known besides the curve: a `jaxcontact.topography.Characterisation` (its D and
-      ln G with their covariance, as a Gaussian prior), or a dict by parameter of `(mean, sd)`,
-      `{"mean": m, "sd": s}` (a scale's sd relative to its mean in the fit: ln coordinates) or
-      `{"low": a, "high": b}` (bounds). The fit is then the MAP estimate with the Laplace covariance
-      `(JᵀJ/σ² + Σ_p⁻¹)⁻¹`, and `FitResult.information` says how much of each interval came from the
-      curve and how much from the prior.
+      ln G with their covariance, as a Gaussian prior), or a dict by parameter of `Normal(mean, sd)`
+      (a scale's sd relative to its mean in the fit: ln coordinates) or `Bounds(low, high)`. The fit
+      is then the MAP estimate with the Laplace covariance `(JᵀJ/σ² + Σ_p⁻¹)⁻¹`, and
+      `FitResult.information` says how much of each interval came from the curve and how much from
+      the prior.
     - `noise`: σ of ln K (the curve's relative noise), which weighs the curve against a prior;
       default: the residuals' scale of the curve fitted alone. With an approach curve: σ of δ in m
       alone, or a dict `{"stiffness": σ of ln K, "approach": σ in m}`, which also weighs one

@@ -13,10 +13,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import equinox as eqx
 import numpy as np
 
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
+from jaxcontact.topography import Characterisation
 
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
@@ -89,30 +91,56 @@ def _characterisation_prior(c, fitted) -> GaussianPrior:
     return GaussianPrior(index, mean, covariance, source)
 
 
+class AbstractPrior(eqx.Module):
+    """What is known of one fitted parameter besides the curve (`fit(..., prior={name: ...})`)."""
+
+
+class Normal(AbstractPrior):
+    """A Gaussian prior, `mean` ± `sd` in the parameter's units: in ln coordinates for a scale (G,
+    l_min, E, H, area: its sd relative to its mean), as the fit's own coordinates are."""
+
+    mean: float
+    sd: float
+
+    def __check_init__(self):
+        for name in ("mean", "sd"):
+            float_array(name, getattr(self, name), 0)
+        if not (math.isfinite(self.sd) and self.sd > 0):
+            raise InputError(f"Normal: sd = {self.sd!r} must be > 0 (valid range (0, inf))")
+
+
+class Bounds(AbstractPrior):
+    """A uniform prior on [`low`, `high`]: the fit's search range narrowed to it."""
+
+    low: float
+    high: float
+
+    def __check_init__(self):
+        for name in ("low", "high"):
+            float_array(name, getattr(self, name), 0)
+
+
 def _stated_prior(prior: dict, fitted):
-    """Gaussian terms and tightened bounds from `{name: {"mean": m, "sd": s}}`, `{name: (m, s)}` or
-    `{name: {"low": a, "high": b}}`."""
+    """Gaussian terms and narrowed bounds from `{name: Normal(mean, sd) or Bounds(low, high)}`."""
     names = [p.name for p in fitted]
     index, mean, variance, bounds = [], [], [], {}
     for name, spec in prior.items():
         if name not in names:
             raise InputError(f"prior on {name!r}, which is not fitted (params = {', '.join(names)})")
         p = fitted[names.index(name)]
-        if isinstance(spec, (tuple, list)) and len(spec) == 2:
-            spec = {"mean": spec[0], "sd": spec[1]}
-        if not isinstance(spec, dict) or not ({"mean", "sd"} <= set(spec) or {"low", "high"} <= set(spec)):
-            raise InputError(f"prior[{name!r}] = {spec!r} must be (mean, sd), {{'mean', 'sd'}} or {{'low', 'high'}}")
-        if "low" in spec:
-            low, high = (float(float_array(f"prior[{name!r}][{k!r}]", spec[k], 0)) for k in ("low", "high"))
+        if not isinstance(spec, AbstractPrior):
+            raise InputError(
+                f"prior[{name!r}] = {spec!r} must be fitting.Normal(mean, sd) or fitting.Bounds(low, high)"
+            )
+        if isinstance(spec, Bounds):
+            low, high = float(spec.low), float(spec.high)
             if not (p.low <= low < high <= p.high):
                 raise InputError(
                     f"prior[{name!r}] bounds [{low:g}, {high:g}] must satisfy {p.low:g} <= low < high <= {p.high:g}"
                 )
             bounds[name] = (low, high)
             continue
-        m, sd = (float(float_array(f"prior[{name!r}][{k!r}]", spec[k], 0)) for k in ("mean", "sd"))
-        if not (math.isfinite(sd) and sd > 0):
-            raise InputError(f"prior[{name!r}]: sd = {sd:g} must be > 0 (valid range (0, inf))")
+        m, sd = float(spec.mean), float(spec.sd)
         if not (p.low < m < p.high):
             raise InputError(f"prior[{name!r}]: mean = {m:g} must lie in ({p.low:g}, {p.high:g})")
         index.append(names.index(name))
@@ -127,10 +155,13 @@ def resolve_prior(prior, fitted):
     a dict, or None."""
     if prior is None:
         return None, fitted
-    if hasattr(prior, "covariance") and hasattr(prior, "D"):
+    if isinstance(prior, Characterisation):
         return _characterisation_prior(prior, fitted), fitted
     if not isinstance(prior, dict):
-        raise InputError(f"prior = {type(prior).__name__} must be a topography Characterisation or a dict by parameter")
+        raise InputError(
+            f"prior = {type(prior).__name__} must be a topography Characterisation or a dict by parameter "
+            "of fitting.Normal or fitting.Bounds"
+        )
     gaussian, bounds = _stated_prior(prior, fitted)
     narrowed = tuple(
         dataclasses.replace(p, low=bounds[p.name][0], high=bounds[p.name][1]) if p.name in bounds else p for p in fitted

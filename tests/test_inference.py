@@ -11,6 +11,7 @@ from helpers import WRONG_START as START
 
 import jaxcontact as jc
 from jaxcontact import fitting
+from jaxcontact import topography as tp
 from jaxcontact.fitting._identifiability import combinations, report
 from jaxcontact.fitting._optimise import AbstractObjective, run_lm
 from jaxcontact.fitting._prior import GaussianPrior, PriorObjective, resolve_prior
@@ -96,13 +97,13 @@ def test_the_map_estimate_is_the_gaussian_linear_closed_form():
 
 def test_a_tight_prior_holds_D_and_the_curve_gives_G(table1_without_interaction):
     loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR, noise=0.05, seed=3)
-    result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (TRUTH["D"], 1e-4)})
+    result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": fitting.Normal(TRUTH["D"], 1e-4)})
     assert result.values["D"] == pytest.approx(TRUTH["D"], abs=3e-4)
 
 
 def test_the_report_says_how_much_came_from_the_curve(table1_without_interaction):
     loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR, noise=0.05, seed=3)
-    wide = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": (1.4, 0.5)})
+    wide = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior={"D": fitting.Normal(1.4, 0.5)})
     assert wide.information["D"]["curve_share"] > 0.99
 
 
@@ -115,31 +116,53 @@ def test_joint_inference_covers_the_truth_over_seeds(table1_without_interaction)
     for seed in range(20):
         loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR[::2], noise=0.05, seed=2000 + seed)
         mean = rng.multivariate_normal(truth, covariance)
-        prior = _Surface(mean[0], math.exp(mean[1]), covariance)
+        prior = _surface(mean[0], math.exp(mean[1]), covariance)
         result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior)
         covered += all(lo < v < hi for v, (lo, hi) in zip((TRUTH["D"], TRUTH["G"]), result.ci95.values()))
     assert covered >= 17
 
 
-class _Surface:
-    """A characterisation as `fitting.fit` reads one: D, G, their (D, ln G) covariance, method and band."""
-
-    def __init__(self, D, G, covariance):
-        self.D, self.G, self.covariance, self.method, self.band = D, G, covariance, "psd", (1e-6, 1e-4)
+def _surface(D, G, covariance):
+    """A characterisation as `fitting.fit` reads one: D, G and their (D, ln G) covariance (no power
+    law of a spectrum, so the prior is a Gaussian in (D, ln G)); the rest is filler."""
+    empty = (np.zeros(0), np.zeros(0))
+    return tp.Characterisation(
+        D=D,
+        G=G,
+        G_structure_function=math.nan,
+        l_min=1e-6,
+        band=(1e-6, 1e-4),
+        method="psd",
+        stderr={},
+        ci95={},
+        covariance=np.asarray(covariance),
+        correlation=math.nan,
+        groups=1,
+        estimates=np.zeros((0, 2)),
+        spectrum=empty,
+        fit=empty,
+        diagnostics=(),
+        kind="areal",
+        reliability_cutoff=None,
+    )
 
 
 @pytest.mark.parametrize(
     "prior, message",
     [
-        ({"D": (1.4, -0.1)}, r"prior\['D'\]: sd = -0.1 must be > 0"),
-        ({"E": (2e11, 1e10)}, "prior on 'E', which is not fitted"),
-        ({"D": {"low": 1.6, "high": 1.3}}, r"prior\['D'\] bounds \[1.6, 1.3\] must satisfy"),
+        ({"E": fitting.Normal(2e11, 1e10)}, "prior on 'E', which is not fitted"),
+        ({"D": fitting.Bounds(1.6, 1.3)}, r"prior\['D'\] bounds \[1.6, 1.3\] must satisfy"),
         ({"D": "1.4"}, r"prior\['D'\] = '1.4' must be"),
     ],
 )
 def test_a_bad_prior_names_the_parameter(prior, message):
     with pytest.raises(ValueError, match=message):
         resolve_prior(prior, D_AND_G)
+
+
+def test_a_normal_prior_refuses_a_negative_sd():
+    with pytest.raises(ValueError, match=r"Normal: sd = -0.1 must be > 0"):
+        fitting.Normal(1.4, -0.1)
 
 
 def test_a_topography_that_cannot_be_characterised_is_one_line(tmp_path, capsys):

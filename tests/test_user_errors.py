@@ -145,9 +145,9 @@ API_MISTAKES = {
         lambda: fitting.sample(*_curve(), make_scene(**TABLE1), band_samples=0),
         "band_samples = 0 must be an integer >= 1",
     ),
-    "a prior's mean in text": (
-        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), prior={"D": ("a", 0.1)}),
-        r"prior\['D'\]\['mean'\] = 'a' must be real numbers",
+    "a prior as a tuple": (
+        lambda: fitting.fit(*_curve(), make_scene(**TABLE1), prior={"D": (1.45, 0.05)}),
+        r"prior\['D'\] = \(1.45, 0.05\) must be fitting.Normal\(mean, sd\) or fitting.Bounds\(low, high\)",
     ),
     "an approach in text": (
         lambda: fitting.fit(*_curve(), make_scene(**TABLE1), approach="abc"),
@@ -189,3 +189,8 @@ def test_a_method_by_name_is_refused_with_its_object():
 def test_a_substrate_by_name_is_refused_with_its_object():
     with refused_type("substrate", r"substrate = 'free': give the object, bem.Free\(\)"):
         bem.solve(np.zeros((16, 16)), 1e-4, 1e11, np.array([1.0]), substrate="free")
+
+
+def test_a_priors_mean_in_text_is_refused():
+    with refused_type("mean", r"mean = 'a' must be real numbers"):
+        fitting.Normal("a", 0.1)

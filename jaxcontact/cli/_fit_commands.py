@@ -96,6 +96,8 @@ def cmd_fit(args) -> int:
 
 def _prior(args):
     """The fit's prior: the characterised `--topography`, or the `--prior` options, or None."""
+    from jaxcontact import fitting
+
     if args.topography and args.prior:
         raise CommandError("give --topography or --prior, not both")
     if args.topography:
@@ -109,13 +111,10 @@ def _prior(args):
         name, _, value = text.partition("=")
         if name.strip() in stated:
             raise CommandError(f"--prior {text}: {name.strip()} has a prior already; give one per parameter")
+        bounded = ".." in value
         try:
-            if ".." in value:
-                low, high = (float(v) for v in value.split(".."))
-                stated[name.strip()] = {"low": low, "high": high}
-            else:
-                mean, sd = (float(v) for v in value.split(":"))
-                stated[name.strip()] = {"mean": mean, "sd": sd}
+            first, second = (float(v) for v in value.split(".." if bounded else ":"))
         except ValueError:
             raise CommandError(f"--prior {text}: write NAME=MEAN:SD or NAME=LOW..HIGH (e.g. D=1.45:0.05)") from None
+        stated[name.strip()] = (fitting.Bounds if bounded else fitting.Normal)(first, second)
     return stated
