@@ -160,3 +160,10 @@ def test_throw_under_jit_raises_the_status_message():
     solved = jax.jit(lambda F: jc.solve(scene, F, throw=True).stiffness)
     with pytest.raises(Exception, match=re.escape(jc.Status.LOAD_OUT_OF_RANGE.message)):
         solved(jnp.asarray(THROWN_LOADS)).block_until_ready()
+
+
+@pytest.mark.parametrize("model", ["persson", "gw"])
+def test_a_solver_is_refused_by_a_model_that_finds_no_state_with_it(model):
+    scene = make_scene(**TABLE1, model=model)
+    with pytest.raises(jc.InputError, match=rf"does not apply to the '{model}' model"):
+        jc.solve(scene, 10.0, solver=jc.NewtonBisection(max_steps=10))

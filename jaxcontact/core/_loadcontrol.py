@@ -49,6 +49,11 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
 
 
 def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build):
+    if not scene.model.root_finding and solver != DEFAULT_SOLVER:
+        raise InputError(
+            f"solver = {solver!r} does not apply to the {scene.model.name!r} model, which finds no state per load "
+            "with it (a closed form, or an iteration of its own): leave solver out"
+        )
     scene, in_domain = within_domain(scene)
     s = nondimensionalise(scene)
     tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
@@ -167,7 +172,8 @@ def solve(
     - `outputs`: what to return beside K, a_l and A_r: `Outputs(regime_shares=True)` (the default)
       splits load and stiffness by regime; `Outputs(regime_shares=False)` spends nothing on it.
     - `solver`: the per-load solve of the model's state, `NewtonBisection(max_steps=64,
-      tolerance=None)` (64 ε of the working dtype).
+      tolerance=None)` (64 ε of the working dtype), for the models that find one (Xia2024, JZZ2010:
+      `root_finding`); refused for the others, which are in closed form or iterate on their own.
     - `throw`: raise where a point has no valid result instead of flagging it: a `StatusError`
       naming the points and their statuses, or under `jit` a runtime error with the first bad
       point's `Status.message`.

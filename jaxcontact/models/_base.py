@@ -75,13 +75,17 @@ class AbstractContactModel(eqx.Module):
     `pad_loads` (True unless set: eager solves and fits pad load arrays to a few lengths, so that
     new lengths do not compile again; a model whose every load is a costly solve, such as the
     boundary-element one, sets it to False), `precision` (the relative precision of K as the model
-    computes it, 0 for round-off: fits stop no finer than it).
+    computes it, 0 for round-off: fits stop no finer than it), `root_finding` (whether each load's
+    state is found by the root finder that `point_solver` is given, `solve(..., solver=...)`; a
+    model in closed form, or with an iteration of its own, says False, and a solver other than the
+    default is refused for it rather than ignored).
     """
 
     name: eqx.AbstractClassVar[str]
     regimes: eqx.AbstractClassVar[tuple[str, ...]]
     pad_loads: ClassVar[bool] = True
     precision: ClassVar[float] = 0.0
+    root_finding: ClassVar[bool] = False
 
     @abc.abstractmethod
     def point_solver(
@@ -191,6 +195,8 @@ class AbstractLargestSpotModel(AbstractContactModel):
 
     Subclasses say how to build their joint (`joint`); the solve is this class's.
     """
+
+    root_finding: ClassVar[bool] = True
 
     @abc.abstractmethod
     def joint(self, s: DimensionlessScene) -> AbstractJoint:
