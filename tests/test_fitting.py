@@ -451,7 +451,7 @@ def test_a_fit_to_pure_noise_says_it_measured_nothing(random_stiffness):
 
 def _evaluated_linear():
     """`_Linear` as the fit sees D and G, with its optimum evaluated (remembered as the lowest point)."""
-    from jaxcontact.fitting._parameters import resolve
+    from jaxcontact.fitting import resolve
 
     objective = _Linear(0.0)
     objective.params = resolve(("D", "G"))
@@ -475,7 +475,7 @@ def test_a_fit_within_one_chi2_of_the_lowest_point_it_evaluated_has_not_stalled(
 
 def test_a_rivals_delta_chi2_is_measured_in_the_loss_the_starts_were_ranked_by():
     """Two starts 0.2 apart in D: the rival's Δχ² is 2N (loss_rival − loss_best) / s², never negative."""
-    from jaxcontact.fitting._parameters import resolve
+    from jaxcontact.fitting import resolve
     from jaxcontact.fitting._statistics import rival_optima
 
     params = resolve(("D", "G"))

@@ -177,7 +177,7 @@ def test_a_topography_that_cannot_be_characterised_is_one_line(tmp_path, capsys)
 @pytest.fixture(scope="module")
 def characterised_map():
     """A 128² synthesised surface (D = 1.5), characterised: its spectrum's fit is the prior's source."""
-    from jaxcontact.bem._surfaces import synthesised_surface
+    from jaxcontact.bem import synthesised_surface
     from jaxcontact.topography import characterise
 
     return characterise(synthesised_surface(1.5, 1e-12, 100e-6 / 32, 100e-6, 128, 1))
@@ -209,7 +209,7 @@ def small_map_joint_fits():
     in (D, ln G)) as the prior of a Persson-made curve of the same D and G (10 loads, 3 % noise)."""
     from helpers import BEM_L, BEM_SETTING
 
-    from jaxcontact.bem._surfaces import synthesised_surface
+    from jaxcontact.bem import synthesised_surface
     from jaxcontact.topography import characterise
 
     D, G, L = 1.5, 1e-12, BEM_L
