@@ -5,8 +5,9 @@ parameters in its unconstrained coordinates, the model's exact gradients, blackj
 The log density in the optimiser coordinates `u` (statistical coordinate `s = low + (high − low)·
 sigmoid(u)`) is `−½ Σ (r_i/σ)² + ln prior(s) + ln |ds/du|`: flat in the statistical coordinates
 within the bounds (D and ν uniform, the scales log-uniform), times the Gaussian prior where one is
-given. σ is the curve's noise in ln K, as the fit's (`noise`, or the residuals' scale of the curve
-fitted alone), held fixed.
+given. The residuals are the fit's own (`_residuals.observed_residuals`: ln K and/or the approach δ,
+each divided by its σ), and σ their scale, held fixed: 1 where every observable's noise is stated,
+else the weighted residuals' scale at the least-squares (or MAP) optimum.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import dataclasses
 import math
 import time
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -24,9 +26,10 @@ import jaxcontact as jc
 from jaxcontact.core import prepare
 
 from ._nuts import run_chains
+from ._observed import observations
 from ._parameters import resolve, stat_of_u, with_stat
 from ._prior import NOISE_FLOOR, resolve_prior
-from ._residuals import residuals_and_status
+from ._residuals import Observations, observed_residuals
 from ._spectral_prior import spectral_coordinates
 from ._statistics import inner_bounds
 
@@ -104,7 +107,7 @@ class Posterior:
         }
 
 
-def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
+def log_density(scene, fitted, data: Observations, sigma, gaussian):
     """The log density in optimiser coordinates `u` (a JAX function), for `run_chains`."""
     if gaussian is not None:
         index, mean, precision = list(gaussian.index), jnp.asarray(gaussian.mean), jnp.linalg.inv(gaussian.covariance)
@@ -116,7 +119,7 @@ def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
 
     def logdensity(u):
         stat = stat_of_u(fitted, u)
-        r, _, _ = residuals_and_status(stat, scene, fitted, loads, log_stiffness)
+        r, _, _ = observed_residuals(stat, scene, fitted, data)
         value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
         if gaussian is not None:
             d = coordinates(stat[jnp.asarray(index)]) - mean
@@ -124,6 +127,15 @@ def log_density(scene, fitted, loads, log_stiffness, sigma, gaussian):
         return value
 
     return logdensity
+
+
+def _scale(start, scene, fitted, data: Observations) -> float:
+    """The weighted residuals' scale `√(Σr²/(N − p))` at the fit's optimum (over its valid measured points)."""
+    stat = np.array([p.to_stat(start.values[p.name]) for p in fitted])
+    residuals = eqx.filter_jit(observed_residuals)
+    r, ok, _ = (np.asarray(x) for x in residuals(jnp.asarray(stat, data.loads.dtype), scene, fitted, data))
+    used = ok & data.measured
+    return max(math.sqrt(float(np.sum(r[used] ** 2)) / max(int(used.sum()) - len(fitted), 1)), NOISE_FLOOR)
 
 
 def sample(
@@ -134,15 +146,19 @@ def sample(
     *,
     prior=None,
     noise: float | dict[str, float] | None = None,
+    approach=None,
+    reference_load: float | None = None,
     chains: int = 4,
     draws: int = 500,
     warmup: int = 500,
     seed: int = 0,
     band_samples: int = 200,
 ) -> Posterior:
-    """Sample the posterior of `params` given a stiffness curve (and a prior) by NUTS.
+    """Sample the posterior of `params` given a stiffness curve, an approach curve or both (and a
+    prior) by NUTS.
 
-    **Arguments:** as `fitting.fit` (`loads`, `stiffness`, `scene`, `params`, `prior`, `noise`), and
+    **Arguments:** as `fitting.fit` (`loads`, `stiffness`, `scene`, `params`, `prior`, `noise`,
+    `approach`, `reference_load`), and
     `chains`, `draws` (per chain), `warmup` (adaptation steps), `seed`, `band_samples` (samples, evenly
     thinned, through which the predicted K band is drawn).
 
@@ -161,22 +177,15 @@ def sample(
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise jc.InputError(f"{name} = {value!r} must be an integer >= {least}")
     t0 = time.perf_counter()
-    start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed)
+    observed = dict(approach=approach, reference_load=reference_load)
+    start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed, **observed)
     fitted = resolve(params)
     gaussian, fitted = resolve_prior(prior, fitted)
-    loads = np.asarray(loads, dtype=float).reshape(-1)
-    log_stiffness = np.log(np.asarray(stiffness, dtype=float).reshape(-1))
-    used = np.isfinite(start.residuals)
-    sigma = (
-        float(noise)
-        if noise is not None
-        else max(math.sqrt(float(np.sum(start.residuals[used] ** 2)) / max(used.sum() - len(fitted), 1)), NOISE_FLOOR)
-    )
-    traced, _ = prepare(scene, loads)
     dtype = jnp.result_type(1.0)
-    logdensity = log_density(
-        traced, fitted, jnp.asarray(loads, dtype), jnp.asarray(log_stiffness, dtype), sigma, gaussian
-    )
+    data, loads, stated = observations(loads, stiffness, approach, reference_load, noise, dtype, 1)
+    traced, _ = prepare(scene, loads)
+    sigma = 1.0 if stated else _scale(start, traced, fitted, data)
+    logdensity = log_density(traced, fitted, data, sigma, gaussian)
     u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *inner_bounds(p))) for p in fitted])
     t1 = time.perf_counter()
     chains_ = run_chains(logdensity, jnp.asarray(u0, dtype), chains=chains, warmup=warmup, draws=draws, seed=seed)

@@ -41,11 +41,12 @@ import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
 
-# Every annotation of the library is checked as the suite runs it (jaxtyping's import hook with
-# beartype, as the anchors run theirs; ints stand for floats as PEP 484 says). Installed before
-# anything imports jaxcontact; JAXCONTACT_TYPECHECK=0, or no beartype, runs the library as users
-# do, where a wrong type meets the library's own message (helpers.refused_type).
-if os.environ.get("JAXCONTACT_TYPECHECK", "1") != "0" and importlib.util.find_spec("beartype") is not None:
+# JAXCONTACT_TYPECHECK=1 checks every annotation of the library as the suite runs it (jaxtyping's
+# import hook with beartype, as the anchors run theirs; ints stand for floats as PEP 484 says),
+# installed before anything imports jaxcontact. CI's second run does (.ci/run); the README's command
+# runs the library as users do, where a wrong type meets the library's own message
+# (helpers.refused_type), and keeps the suite's time (the checker costs about 5 %).
+if os.environ.get("JAXCONTACT_TYPECHECK") == "1" and importlib.util.find_spec("beartype") is not None:
     from jaxtyping import install_import_hook
 
     install_import_hook(["jaxcontact"], "beartype.beartype(conf=beartype.BeartypeConf(is_pep484_tower=True))")
@@ -75,24 +76,37 @@ gc.set_threshold(100_000, 50, 1000)
 # tests for the end, with one worker idle. Files not named follow in their usual order.
 LONGEST_FIRST = (
     "test_hard_cases.py",
-    "test_posterior.py",
-    "test_topography_band.py",
-    "test_inference.py",
-    "test_fit_batch.py",
-    "test_contract.py",
-    "test_fitting.py",
+    "test_bem_jax.py",
     "test_dynamics.py",
     "test_approach.py",
+    "test_fitting.py",
+    "test_bem_model.py",
+    "test_contract.py",
+    "test_posterior.py",
+    "test_topography_band.py",
     "test_gradients.py",
+    "test_approach_fit.py",
     "test_topography.py",
-    "test_api.py",
-    "test_cli.py",
     "test_programs.py",
-    "test_bem.py",
-    "test_quadrature.py",
-    "test_validation_table.py",
-    "test_sweep.py",
     "test_compare_cli.py",
+    "test_cli.py",
+    "test_bem_scale.py",
+    "test_bem.py",
+    "test_api.py",
+    "test_fit_batch.py",
+    "test_inference.py",
+    "test_comparator_fuzz.py",
+    "test_pole_integral.py",
+    "test_sweep.py",
+    "test_quadrature.py",
+    "test_bem_cache.py",
+    "test_reading.py",
+    "test_bem_robustness.py",
+    "test_validation_table.py",
+    "test_accuracy.py",
+    "test_equinox.py",
+    "test_scipy_crosscheck.py",
+    "test_load_pieces.py",
 )
 
 

@@ -16,9 +16,9 @@ from jaxcontact.quantities import nondimensionalise
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
-# Whether the library runs under jaxtyping's import hook with beartype (conftest.py): the suite's
-# default where beartype is installed; JAXCONTACT_TYPECHECK=0 runs the library as users do.
-TYPECHECKED = os.environ.get("JAXCONTACT_TYPECHECK", "1") != "0" and importlib.util.find_spec("beartype") is not None
+# Whether the library runs under jaxtyping's import hook with beartype (conftest.py,
+# JAXCONTACT_TYPECHECK=1).
+TYPECHECKED = os.environ.get("JAXCONTACT_TYPECHECK") == "1" and importlib.util.find_spec("beartype") is not None
 
 
 def refused_type(parameter: str, message: str):

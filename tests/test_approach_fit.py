@@ -152,3 +152,21 @@ def test_a_stiffness_inconsistent_with_the_approach_is_not_described(fit_curve):
     noise = {"stiffness": 0.01, "approach": 1e-3 * float(np.sqrt(np.mean(delta**2)))}
     result = fitting.fit(LOADS, K, make_scene(**START), approach=delta, noise=noise, n_starts=3)
     assert not result.describes_data
+
+
+def test_the_posteriors_density_of_an_approach_curve_is_its_misfit(fit_curve):
+    """`sample`'s log density for δ(F) with a stated noise σ: −½ Σ ((δ_model − δ)/σ)², δ_model from
+    the public quadrature of the approach, plus the log-Jacobian of the map onto the search bounds."""
+    from jaxcontact.core import prepare
+    from jaxcontact.fitting._observed import observations
+    from jaxcontact.fitting._posterior import log_density
+
+    scene, delta = fit_curve
+    params, sigma, u = fitting.resolve(("D", "G")), 1e-9, np.array([0.3, -0.2])
+    data, loads, _ = observations(LOADS, None, delta, None, sigma, np.float64, 1)
+    density = float(jax.jit(log_density(prepare(scene, loads)[0], params, data, 1.0, None))(u))
+    values = tuple(p.from_stat(p.stat_from_u(x)) for p, x in zip(params, u))
+    moved = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, values)
+    model = np.asarray(jc.approach_quadrature(moved, LOADS, float(LOADS[0])).approach)
+    log_jacobian = np.sum(-np.log1p(np.exp(-u)) - np.log1p(np.exp(u)))
+    assert density == pytest.approx(-0.5 * np.sum(((model - delta) / sigma) ** 2) + log_jacobian, rel=1e-9)
