@@ -24,6 +24,7 @@ import numpy as np
 from jaxtyping import Array, Complex, Float
 
 from ..numerics import cached
+from ..numerics._compat import complex_dtype
 
 
 @cached
@@ -136,7 +137,7 @@ class Compliance(eqx.Module):
     def build(cls, n: int, substrate: AbstractSubstrate, dtype) -> Compliance:
         stiffness = jnp.asarray(_stiffness_kernel(n), dtype)
         kernel = substrate.kernel(n)
-        kernel_dtype = jnp.result_type(dtype, jnp.complex64) if np.iscomplexobj(kernel) else dtype
+        kernel_dtype = complex_dtype(dtype) if np.iscomplexobj(kernel) else dtype
         return cls(jnp.asarray(kernel, kernel_dtype), stiffness, n, substrate.padded)
 
     def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:

@@ -20,6 +20,7 @@ import numpy as np
 from jax.scipy.special import erfc
 
 from ..numerics import cached
+from ..numerics._compat import complex_dtype
 from ..physics._spectrum import log_areal_prefactor
 from ._study import SYNTHESIS_GRID
 
@@ -67,6 +68,5 @@ def synthesised_heights(D, log_G, log_a_min, grid: int, seeds: tuple[int, ...], 
     else:
         cut = (q <= q_max * (1 + 1e-9)).astype(dtype)  # a mode on the cutoff is kept, as SurfaceTopography keeps it
     amplitude = jnp.where(q > 0, amplitude * cut, 0.0)
-    complex_dtype = jnp.result_type(dtype, jnp.complex64)
-    noises = jnp.asarray(np.stack([noise(seed, grid) for seed in seeds]), complex_dtype)
+    noises = jnp.asarray(np.stack([noise(seed, grid) for seed in seeds]), complex_dtype(dtype))
     return jnp.real(jnp.fft.ifft2(amplitude * noises))

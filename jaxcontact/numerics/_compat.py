@@ -64,3 +64,9 @@ def avoid_host_callbacks_in_checks() -> None:
         return
     if getattr(errors, "EQX_ON_ERROR", None) == "raise":
         errors.EQX_ON_ERROR = "nan"
+
+
+def complex_dtype(dtype):
+    """The complex dtype of a real one's precision (complex128 for float64, complex64 for float32),
+    without the implicit promotion that JAX's strict mode refuses."""
+    return jnp.complex128 if jnp.dtype(dtype) == jnp.float64 else jnp.complex64
