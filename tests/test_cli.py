@@ -587,6 +587,7 @@ def test_the_bench_table_for_the_docs_states_each_figure_and_its_machine():
         (["--seed", "3"], "--seed 3 applies with --posterior only"),
         (["--posterior", "--seed", "-1"], "--seed -1 must be an integer >= 0"),
         (["--prior", "D=1.4:0.1", "--prior", "D=1.5:0.1"], "D has a prior already; give one per parameter"),
+        (["--prior", "D=1.45:-0.05"], "--prior D=1.45:-0.05: Normal: sd = -0.05 must be > 0"),
     ],
 )
 def test_fit_options_that_would_be_ignored_are_one_line_with_exit_2(tmp_path, capsys, extra, message):

@@ -116,5 +116,8 @@ def _prior(args):
             first, second = (float(v) for v in value.split(".." if bounded else ":"))
         except ValueError:
             raise CommandError(f"--prior {text}: write NAME=MEAN:SD or NAME=LOW..HIGH (e.g. D=1.45:0.05)") from None
-        stated[name.strip()] = (fitting.Bounds if bounded else fitting.Normal)(first, second)
+        try:
+            stated[name.strip()] = (fitting.Bounds if bounded else fitting.Normal)(first, second)
+        except ValueError as error:
+            raise CommandError(f"--prior {text}: {error}") from None
     return stated
