@@ -25,7 +25,7 @@ from jaxcontact.numerics import float_array
 
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
-from ._residuals import residuals_and_status
+from ._residuals import Observations, observed_residuals, stiffness_curve
 from ._statistics import NOTHING_DETERMINED, bounds_reached, nothing_determined, stderr_and_interval, student_t
 
 
@@ -54,13 +54,13 @@ class BatchResult:
     compile_time: float
 
 
-def _solver(scene, fitted, loads, log_stiffness, max_iter: int, tol: float):
+def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
     """One curve's fit from one start `u0`: optax L-BFGS until the gradient's norm or the loss's relative
     progress falls below `tol`, or `max_iter` steps."""
     import optax
 
     def loss(u):
-        r, _, _ = residuals_and_status(stat_of_u(fitted, u), scene, fitted, loads, log_stiffness)
+        r, _, _ = observed_residuals(stat_of_u(fitted, u), scene, fitted, data)
         return 0.5 * jnp.mean(r * r)
 
     optimiser = optax.lbfgs()
@@ -212,14 +212,15 @@ def _program(treedef, fitted, max_iter: int, tol: float):
     best start, its residuals and Jacobian)."""
 
     def one_curve(scene, loads, log_stiffness, u0s):
-        run = _solver(scene, fitted, loads, log_stiffness, max_iter, tol)
+        data = stiffness_curve(loads, log_stiffness)
+        run = _solver(scene, fitted, data, max_iter, tol)
         us, losses, ks = jax.vmap(run)(u0s)
         best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
         stat = stat_of_u(fitted, us[best])
 
         def residuals(s):
-            r, ok, _ = residuals_and_status(s, scene, fitted, loads, log_stiffness)
-            return r, (r, ok)
+            r, ok, _ = observed_residuals(s, scene, fitted, data)
+            return r[:, 0], (r[:, 0], ok[:, 0])
 
         J, (r, ok) = jax.jacfwd(residuals, has_aux=True)(stat)
         return us[best], losses[best], ks[best], r, ok, J

@@ -63,19 +63,27 @@ class Observations(eqx.Module):
         return np.isfinite(np.asarray(self.targets))
 
 
+def stiffness_curve(loads, log_stiffness) -> Observations:
+    """A stiffness curve as observations, σ = 1 in ln K (traceable: `fit_batch` makes one per curve)."""
+    loads, log_stiffness = jnp.asarray(loads), jnp.asarray(log_stiffness)
+    return Observations(
+        loads=loads,
+        targets=log_stiffness[:, None],
+        weights=jnp.ones(1, loads.dtype),
+        flagged=jnp.full(1, FLAGGED_RESIDUAL, loads.dtype),
+        reference_load=jnp.min(loads),
+        columns=("stiffness",),
+    )
+
+
 def log_residuals(stat, scene, params, loads, log_stiffness):
     """`(r, ok)`: log-stiffness residuals at statistical coordinates `stat`, and the valid mask."""
-    r, ok, _ = residuals_and_status(stat, scene, params, loads, log_stiffness)
-    return r, ok
+    r, ok, _ = observed_residuals(stat, scene, params, stiffness_curve(loads, log_stiffness))
+    return r[:, 0], ok[:, 0]
 
 
 # The fit reads the stiffness and the status alone.
 _OUTPUTS = jc.Outputs(regime_shares=False)
-
-
-def residuals_and_status(stat, scene, params, loads, log_stiffness):
-    """The stiffness column alone (unweighted): `(r, ok, status)` per load."""
-    return _stiffness(with_stat(scene, params, stat), loads, log_stiffness, FLAGGED_RESIDUAL)
 
 
 def _stiffness(scene, loads, log_stiffness, flagged):

@@ -484,3 +484,13 @@ def test_a_rivals_delta_chi2_is_measured_in_the_loss_the_starts_were_ranked_by()
     losses = np.array([0.010, 0.0101])
     warnings = rival_optima(params, u_all, 0, result, losses, 30, s2=0.001)
     assert "(Δχ² = 6.00)" in warnings[0]
+
+
+def test_log_residuals_are_the_models_log_stiffness_less_the_data():
+    scene = make_scene(**{**TABLE1, "interaction": "none"})
+    params, loads = fitting.resolve(("D", "G")), np.array([10.0, 100.0, 1000.0])
+    data = np.log(np.array([1e9, 5e9, 2e10]))
+    stat = np.array([p.to_stat(float(p.get(scene))) for p in params])
+    r, ok = fitting.log_residuals(stat, scene, params, loads, data)
+    expected = np.log(np.asarray(jc.solve(scene, loads).stiffness)) - data
+    np.testing.assert_allclose(np.asarray(r), expected, rtol=1e-12)
