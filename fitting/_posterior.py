@@ -13,10 +13,8 @@ else the weighted residuals' scale at the least-squares (or MAP) optimum.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -28,7 +26,7 @@ from jaxcontact.core import prepare
 from ._nuts import run_chains
 from ._observed import observations
 from ._parameters import resolve, stat_of_u, with_stat
-from ._prior import NOISE_FLOOR, resolve_prior
+from ._prior import residual_scale, resolve_prior
 from ._residuals import Observations, observed_residuals
 from ._spectral_prior import spectral_coordinates
 from ._statistics import inner_bounds
@@ -129,13 +127,12 @@ def log_density(scene, fitted, data: Observations, sigma, gaussian):
     return logdensity
 
 
-def _scale(start, scene, fitted, data: Observations) -> float:
-    """The weighted residuals' scale `√(Σr²/(N − p))` at the fit's optimum (over its valid measured points)."""
-    stat = np.array([p.to_stat(start.values[p.name]) for p in fitted])
-    residuals = eqx.filter_jit(observed_residuals)
-    r, ok, _ = (np.asarray(x) for x in residuals(jnp.asarray(stat, data.loads.dtype), scene, fitted, data))
-    used = ok & data.measured
-    return max(math.sqrt(float(np.sum(r[used] ** 2)) / max(int(used.sum()) - len(fitted), 1)), NOISE_FLOOR)
+def _scale(start, data: Observations, p: int) -> float:
+    """The weighted residuals' scale at the fit's optimum: its residuals (NaN where a point was not
+    used), each observable's weighted back."""
+    weighted = np.asarray(start.residuals).reshape(len(start.residuals), -1) * np.asarray(data.weights)
+    used = weighted[np.isfinite(weighted)]
+    return residual_scale(used, used.size, p)
 
 
 def sample(
@@ -184,7 +181,7 @@ def sample(
     dtype = jnp.result_type(1.0)
     data, loads, stated = observations(loads, stiffness, approach, reference_load, noise, dtype, 1)
     traced, _ = prepare(scene, loads)
-    sigma = 1.0 if stated else _scale(start, traced, fitted, data)
+    sigma = 1.0 if stated else _scale(start, data, len(fitted))
     logdensity = log_density(traced, fitted, data, sigma, gaussian)
     u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *inner_bounds(p))) for p in fitted])
     t1 = time.perf_counter()

@@ -218,7 +218,13 @@ def noise_scale(objective, u0, noise, max_iter: int, tol: float, p: int) -> floa
             raise InputError(f"noise = {noise!r} must be > 0 (valid range (0, inf)): σ of ln K")
         return float(noise)
     r = objective(run_lm(objective, u0, max_iter, tol).u)[0]
-    return max(math.sqrt(float(r @ r) / max(objective.n_points - p, 1)), NOISE_FLOOR)
+    return residual_scale(r, objective.n_points, p)
+
+
+def residual_scale(r: np.ndarray, n: int, p: int) -> float:
+    """The residuals' scale `√(Σr²/(N − p))` over `n` measured values and `p` parameters, no lower
+    than `NOISE_FLOOR`."""
+    return max(math.sqrt(float(r @ r) / max(n - p, 1)), NOISE_FLOOR)
 
 
 def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):
