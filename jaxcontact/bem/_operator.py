@@ -25,6 +25,10 @@ from jaxtyping import Array, Complex, Float
 
 from ..numerics import cached
 from ..numerics._compat import complex_dtype
+from ..numerics._validate import optional_import
+
+# What ContactMechanics is imported for (the message naming the missing extra).
+REFERENCE = "the boundary-element reference"
 
 
 @cached
@@ -98,10 +102,9 @@ class Periodic(AbstractSubstrate):
         return _periodic_kernel(n)
 
     def reference(self, topography, modulus: float):
-        from ContactMechanics import PeriodicFFTElasticHalfSpace
-
+        cm = optional_import("ContactMechanics", REFERENCE)
         sizes = topography.physical_sizes
-        return PeriodicFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=sizes, stiffness_q0=0.0)
+        return cm.PeriodicFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=sizes, stiffness_q0=0.0)
 
 
 class Free(AbstractSubstrate):
@@ -115,9 +118,8 @@ class Free(AbstractSubstrate):
         return _free_kernel(n)
 
     def reference(self, topography, modulus: float):
-        from ContactMechanics import FreeFFTElasticHalfSpace
-
-        return FreeFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes)
+        cm = optional_import("ContactMechanics", REFERENCE)
+        return cm.FreeFFTElasticHalfSpace(topography.nb_grid_pts, modulus, physical_sizes=topography.physical_sizes)
 
 
 # The command line's names.
@@ -131,7 +133,7 @@ class Compliance(eqx.Module):
     kernel: Complex[Array, "rows columns"] | Float[Array, "rows columns"]
     stiffness: Float[Array, "n half"]
     n: int = eqx.field(static=True)
-    free: bool = eqx.field(static=True)
+    padded: bool = eqx.field(static=True)
 
     @classmethod
     def build(cls, n: int, substrate: AbstractSubstrate, dtype) -> Compliance:
@@ -148,7 +150,7 @@ class Compliance(eqx.Module):
 
     def __call__(self, pressure: Float[Array, "n n"]) -> Float[Array, "n n"]:
         n = self.n
-        if not self.free:
+        if not self.padded:
             return jnp.fft.irfft2(jnp.fft.rfft2(pressure) * self.kernel, s=(n, n))
         padded = jnp.zeros((2 * n, 2 * n), pressure.dtype).at[:n, :n].set(pressure)
         return jnp.fft.irfft2(jnp.fft.rfft2(padded) * self.kernel, s=(2 * n, 2 * n))[:n, :n]

@@ -22,7 +22,7 @@ from ..models import CLOSED_INTERFACE
 from ..numerics._validate import InputError, check_range, check_strategy, optional_import, spelled
 from ..quantities import Status
 from ._cache import ResultCache
-from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
+from ._operator import REFERENCE, SUBSTRATES, AbstractSubstrate, Periodic
 
 
 class BEMSettings(eqx.Module):
@@ -147,7 +147,7 @@ def bem_stiffness(
     **Returns:** a `BEMResult`. A solve that reaches the iteration cap gives `NOT_CONVERGED`; a
     load that closes the interface (contact fraction ≥ 0.99) gives `LOAD_OUT_OF_RANGE`.
     """
-    make_system = optional_import("ContactMechanics", "the boundary-element reference").make_system
+    make_system = optional_import("ContactMechanics", REFERENCE).make_system
 
     check_range("modulus", modulus, 0.0)
     loads = np.atleast_1d(np.asarray(loads, dtype=float))
