@@ -12,7 +12,7 @@ docs/architecture.md; the subpackages (`jaxcontact.models`, `jaxcontact.physics`
 """
 
 from .bem import BEM
-from .core import NewtonBisection, Outputs, Scene, Solution, solve, stack_scenes, table1_scene
+from .core import Outputs, Scene, Solution, solve, stack_scenes, table1_scene
 from .models import (
     DISTRIBUTIONS,
     INTERACTIONS,
@@ -42,6 +42,7 @@ from .numerics import (
     InputError,
     JaxcontactWarning,
     MissingExtraError,
+    NewtonBisection,
     PlausibilityWarning,
     PowerLaw,
     PowerSeries,

@@ -76,7 +76,9 @@ def test_hard_loads_fall_back_to_the_optimistix_loop():
     # Near a_min, ln F_t ~ ln(a_l - a_min): a few straight-line Newton steps from the piece's
     # end are not enough, and the loop must finish the job (max_steps = 4 leaves it no steps).
     loads = np.geomspace(1e-14, 1e-11, 12) * TABLE1["E"] * TABLE1["area"]
-    short = jc.solve(make_scene(**TABLE1, interaction="none"), loads, solver=jc.NewtonBisection(max_steps=4))
+    short = jc.solve(
+        make_scene(**TABLE1, model=jc.Xia2024(interaction=jc.NoInteraction(), root_finder=jc.NewtonBisection(4))), loads
+    )
     full = jc.solve(make_scene(**TABLE1, interaction="none"), loads)
     assert np.any(np.asarray(short.status) == jc.Status.NOT_CONVERGED)
     np.testing.assert_array_equal(full.status, 0)

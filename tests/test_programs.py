@@ -16,19 +16,19 @@ from jaxcontact.programs import _compiling as compiling
 from jaxcontact.programs import _programs as programs
 
 
-def _compiled_lengths(scene, outputs, solver):
-    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs, solver))
+def _compiled_lengths(scene, outputs):
+    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs))
     return programs.program(loadcontrol._solve, treedef).flat._cache_size()
 
 
 def test_one_seven_thirty_and_two_hundred_loads_compile_the_solve_twice():
     # A configuration no other test uses, so that its program starts with an empty cache.
-    scene = make_scene(**TABLE1, interaction="none")
-    settings = dict(outputs=jc.Outputs(regime_shares=False), solver=jc.NewtonBisection(max_steps=63))
-    jc.solve(scene, 22.0, **settings)
+    scene = make_scene(**TABLE1, interaction="none", max_steps=63)
+    outputs = jc.Outputs(regime_shares=False)
+    jc.solve(scene, 22.0, outputs=outputs)
     for count in (7, 30, 200):
-        jc.solve(scene, np.geomspace(1.0, 1e3, count), **settings)
-    assert _compiled_lengths(scene, **settings) == 2
+        jc.solve(scene, np.geomspace(1.0, 1e3, count), outputs=outputs)
+    assert _compiled_lengths(scene, outputs) == 2
 
 
 def test_a_single_load_padded_to_a_bucket_keeps_its_scalar_shape(table1_scene):
@@ -212,7 +212,7 @@ def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_p
         first = jc.solve(scene, loads)
         programs.program.cache_clear()
         again = jc.solve(scene, loads)
-    assert _compiled_lengths(scene, jc.Outputs(), jc.NewtonBisection()) == 0  # never traced in its place
+    assert _compiled_lengths(scene, jc.Outputs()) == 0  # never traced in its place
     assert jax.tree_util.tree_structure(again) == jax.tree_util.tree_structure(first)
     for name in ("a_l", "stiffness", "real_area", "status", "load_share", "modulus"):
         np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
@@ -297,7 +297,7 @@ print(max(float(np.max(np.abs(getattr(short, n)[ok] / getattr(default, n)[ok] - 
 )
 def test_the_solution_tree_is_known_without_tracing(options, shares):
     scene, outputs = make_scene(**TABLE1, **options), jc.Outputs(regime_shares=shares)
-    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs, jc.NewtonBisection()))
+    leaves, treedef = jax.tree_util.tree_flatten((scene, outputs))
     traced = jax.tree_util.tree_structure(
         jax.eval_shape(lambda s, F: jc.solve(s, F, outputs=outputs), scene, jnp.ones(3))
     )

@@ -162,8 +162,16 @@ def test_throw_under_jit_raises_the_status_message():
         solved(jnp.asarray(THROWN_LOADS)).block_until_ready()
 
 
-@pytest.mark.parametrize("model", ["persson", "gw"])
-def test_a_solver_is_refused_by_a_model_that_finds_no_state_with_it(model):
-    scene = make_scene(**TABLE1, model=model)
-    with pytest.raises(jc.InputError, match=rf"does not apply to the '{model}' model"):
-        jc.solve(scene, 10.0, solver=jc.NewtonBisection(max_steps=10))
+@pytest.mark.parametrize("setting", [dict(max_steps=10), dict(solver_tolerance=1e-9)])
+def test_root_finder_settings_are_refused_by_a_model_that_finds_no_state(setting):
+    name = next(iter(setting))
+    with pytest.raises(jc.InputError, match=rf"{name} applies to models that solve .* model 'persson' finds none"):
+        make_scene(**TABLE1, model="persson", **setting)
+
+
+def test_the_gw_model_solves_with_the_root_finder_it_holds():
+    loads = np.geomspace(1e-7, 1e-4, 5) * TABLE1["E"] * TABLE1["area"]
+    one_step = jc.solve(
+        make_scene(**TABLE1, model=jc.GreenwoodWilliamson(root_finder=jc.NewtonBisection(max_steps=1))), loads
+    )
+    np.testing.assert_array_equal(one_step.status, jc.Status.NOT_CONVERGED)

@@ -18,6 +18,7 @@ from jaxcontact import (
     AbstractLargestSpotModel,
     GenericLoadPieces,
     JointResponse,
+    NewtonBisection,
     PowerLaw,
     hertz_stiffness,
     kogut_etsion_laws,
@@ -30,6 +31,7 @@ class AllElastic(AbstractLargestSpotModel):
 
     name: ClassVar[str] = "toy-all-elastic"
     regimes: ClassVar[tuple[str, ...]] = ("e",)
+    root_finder: NewtonBisection = NewtonBisection()
 
     def joint(self, s):
         laws, _ = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)

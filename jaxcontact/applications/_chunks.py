@@ -5,8 +5,8 @@ from __future__ import annotations
 import jax
 import numpy as np
 
-from ..core import NewtonBisection, Outputs, Scene, Solution
-from ..core._loadcontrol import DEFAULT_OUTPUTS, DEFAULT_SOLVER, solve
+from ..core import Outputs, Scene, Solution
+from ..core._loadcontrol import DEFAULT_OUTPUTS, solve
 from ..programs import bucket, edge_padded
 
 CHUNK = 4096
@@ -48,18 +48,17 @@ def solve_sweep(
     loads,
     *,
     outputs: Outputs = DEFAULT_OUTPUTS,
-    solver: NewtonBisection = DEFAULT_SOLVER,
     chunk: int = CHUNK,
     progress: bool = False,
 ) -> Solution:
-    """`solve(scene, loads, outputs=..., solver=...)` for a 1-D array of loads, as numpy arrays,
+    """`solve(scene, loads, outputs=...)` for a 1-D array of loads, as numpy arrays,
     `chunk` loads at a time (one compilation, bounded memory); `progress=True` shows a tqdm bar."""
     loads = np.asarray(loads, dtype=float).reshape(-1)
     # Fewer loads than a chunk are padded here, on the host, to the length `solve` would pad them
     # to: the same program, and no program to cut its outputs back (one compilation fewer).
     small = 0 < loads.size <= chunk
     return map_in_chunks(
-        lambda block: solve(scene, block, outputs=outputs, solver=solver),
+        lambda block: solve(scene, block, outputs=outputs),
         loads,
         chunk=bucket(loads.size) if small else chunk,
         pad_small=small,

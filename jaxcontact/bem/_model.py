@@ -83,8 +83,7 @@ class BEM(AbstractSweptModel):
         dtype = jnp.result_type(1.0)
         return self._heights(nondimensionalise(scene), dtype) * jnp.sqrt(jnp.asarray(scene.area, dtype))
 
-    def sweep_solver(self, s, *, tolerance, max_steps):
-        del tolerance, max_steps  # the model's own, below
+    def sweep_solver(self, s):
         dtype = jnp.result_type(s.D)
         heights = self._heights(s, dtype)
         resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12

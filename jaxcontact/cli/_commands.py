@@ -41,7 +41,6 @@ def cmd_run(args) -> int:
         spec.scene,
         spec.loads,
         outputs=spec.outputs,
-        solver=spec.solver,
         progress=args.progress and spec.loads.size > 4096,
     )
     rows = solution_rows(solution)

@@ -123,7 +123,10 @@ def scene_record(spec) -> dict:
 
     scene = spec.scene
     parameters = {name: float(p.get(scene)) for name, p in PARAMETERS.items()}
-    settings = dict(regime_shares=spec.outputs.regime_shares, max_steps=spec.solver.max_steps)
+    finder = getattr(scene.model, "root_finder", None)
+    settings = dict(regime_shares=spec.outputs.regime_shares)
+    if finder is not None:
+        settings.update(max_steps=finder.max_steps, solver_tolerance=finder.tolerance)
     return {
         "jaxcontact": jaxcontact.__version__,
         "title": spec.title,

@@ -34,7 +34,7 @@ try:
 except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
-from ..core import NewtonBisection, Outputs, Scene
+from ..core import Outputs, Scene
 from ..numerics import InputError
 from ..numerics._validate import decoded_text, file_spelling
 from ..quantities import Material, Scales, Surface
@@ -97,8 +97,8 @@ class DynamicsSpec:
 class SceneFile:
     """A scene as read from TOML: the `Scene`, the loads (N), a title, the optional effects
     `approach_reference` (N, the preload of the load–approach curve) and `dynamics`, and the
-    options of `solve` it asks for (`outputs`: `[effects] regime_shares`; `solver`: `[model]
-    max_steps`, `solver_tolerance`)."""
+    option of `solve` it asks for (`outputs`: `[effects] regime_shares`). `[model] max_steps` and
+    `solver_tolerance` are the model's root finder (`NewtonBisection`)."""
 
     title: str
     scene: Scene
@@ -107,7 +107,6 @@ class SceneFile:
     approach_reference: float | None = None
     dynamics: DynamicsSpec | None = None
     outputs: Outputs = Outputs()
-    solver: NewtonBisection = NewtonBisection()
 
     @property
     def load_star(self) -> np.ndarray:
@@ -182,7 +181,6 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     name = model.pop("name", "xia2024")
     for key in set(model) & set(effects):
         raise SceneFileError(f"{key} is given in both [model] and [effects]: give it once")
-    settings = {k: model.pop(k) for k in ("max_steps", "solver_tolerance") if k in model}
     options = {**model, **{k: v for k, v in effects.items() if k != "regime_shares"}}
     try:
         with file_spelling():
@@ -190,7 +188,6 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
             material = Material(**data["material"])
             scene = Scene(surface, material, data["joint"]["area"], model=name, **options)
             outputs = Outputs(regime_shares=effects.get("regime_shares", True))
-            solver = NewtonBisection(settings.get("max_steps", 64), settings.get("solver_tolerance"))
     except SceneFileError:
         raise
     except InputError as exc:
@@ -210,7 +207,6 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
         approach_reference=None if reference is None else float(reference),
         dynamics=_dynamics(data["dynamics"]) if "dynamics" in data else None,
         outputs=outputs,
-        solver=solver,
     )
 
 

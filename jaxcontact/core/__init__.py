@@ -1,16 +1,15 @@
-"""The scene (the joint and its model), load control (`solve`, Sec. 4), its options (`Outputs`,
-`NewtonBisection`), the `Solution`, and the default scene."""
+"""The scene (the joint and its model), load control (`solve`, Sec. 4), its option (`Outputs`), the
+`Solution`, and the default scene."""
 
 from ._defaults import table1_scene, table1_values
 from ._loadcontrol import kink_log_loads, point_solver, solve
 from ._prepare import prepare
 from ._scene import Scene, stack_scenes
-from ._settings import NewtonBisection, Outputs
+from ._settings import Outputs
 from ._solution import Solution
 
 __all__ = [
     "kink_log_loads",
-    "NewtonBisection",
     "Outputs",
     "point_solver",
     "prepare",

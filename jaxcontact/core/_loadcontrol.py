@@ -18,7 +18,7 @@ from jaxtyping import Array, Bool, Float
 
 from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
-from ..numerics import InputError, LoadsLike
+from ..numerics import LoadsLike
 from ..numerics._elementwise import unrolled_sum
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
@@ -26,7 +26,7 @@ from ..quantities._domain import PARAMETERS, all_valid, scene_fields, valid_fiel
 from ._defaults import table1_values
 from ._prepare import _prepare
 from ._scene import Scene
-from ._settings import NewtonBisection, Outputs
+from ._settings import Outputs
 from ._solution import Solution, is_solved, masked_rescale, thrown
 
 
@@ -48,16 +48,9 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
-def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build):
-    if not scene.model.root_finding and solver != DEFAULT_SOLVER:
-        raise InputError(
-            f"solver = {solver!r} does not apply to the {scene.model.name!r} model, which finds no state per load "
-            "with it (a closed form, or an iteration of its own): leave solver out"
-        )
+def _flagged_outside_domain(scene: Scene, build):
     scene, in_domain = within_domain(scene)
-    s = nondimensionalise(scene)
-    tolerance = solver.tolerance_for(jnp.result_type(s.log_a_min))
-    model_solve = build(scene.model, s, tolerance=tolerance, max_steps=solver.max_steps)
+    model_solve = build(scene.model, nondimensionalise(scene))
 
     def flagged(F_star) -> PointResult:
         point = model_solve(F_star)
@@ -67,7 +60,7 @@ def _flagged_outside_domain(scene: Scene, solver: NewtonBisection, build):
     return flagged
 
 
-def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
+def point_solver(scene: Scene):
     """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
 
     Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
@@ -75,13 +68,13 @@ def point_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
     K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
     parameters are outside their domain get `Status.INVALID_PARAMETERS`.
     """
-    return _flagged_outside_domain(scene, solver, type(scene.model).point_solver)
+    return _flagged_outside_domain(scene, type(scene.model).point_solver)
 
 
-def curve_solver(scene: Scene, solver: NewtonBisection = NewtonBisection()):
+def curve_solver(scene: Scene):
     """As `point_solver`, for all loads at once: `F*` (1-D) ↦ `PointResult`s with a loads axis
     (a swept model's sweep, else the points mapped)."""
-    return _flagged_outside_domain(scene, solver, model_curve_solver)
+    return _flagged_outside_domain(scene, model_curve_solver)
 
 
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
@@ -90,8 +83,8 @@ def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
     return scene.model.kink_log_loads(nondimensionalise(scene))
 
 
-def _solve(tree: tuple[Scene, Outputs, NewtonBisection], loads):
-    scene, outputs, solver = tree
+def _solve(tree: tuple[Scene, Outputs], loads):
+    scene, outputs = tree
     # The scales too come from the stand-in where the scene is out of its domain (the points are
     # flagged by `point_solver`, which is handed the scene as it is).
     guarded, _ = within_domain(scene)
@@ -100,7 +93,7 @@ def _solve(tree: tuple[Scene, Outputs, NewtonBisection], loads):
     # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
     usable = jnp.isfinite(loads) & (loads > 0)
     load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
-    points = curve_solver(scene, solver)(load_star.reshape(-1))
+    points = curve_solver(scene)(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     solved = is_solved(status)
@@ -134,7 +127,7 @@ def _solution_tree(treedef):
     """`leaves ↦` the tree structure of `_solve`'s `Solution` for this scene, without tracing it."""
 
     def tree(leaves):
-        scene, outputs, _ = jax.tree_util.tree_unflatten(treedef, leaves)
+        scene, outputs = jax.tree_util.tree_unflatten(treedef, leaves)
         zero = jnp.zeros(())
         shares = jnp.zeros((len(scene.model.regimes),)) if outputs.regime_shares else None
         fields = ("load", "a_l", "stiffness", "real_area", "modulus", "nominal_area")
@@ -150,9 +143,8 @@ def _solution_tree(treedef):
     return tree
 
 
-# The defaults of `solve`'s options: one object each, so that the last call's check is an identity test.
+# The default of `solve`'s option: one object, so that the last call's check is an identity test.
 DEFAULT_OUTPUTS = Outputs()
-DEFAULT_SOLVER = NewtonBisection()
 
 
 def solve(
@@ -160,7 +152,6 @@ def solve(
     loads: LoadsLike,
     *,
     outputs: Outputs = DEFAULT_OUTPUTS,
-    solver: NewtonBisection = DEFAULT_SOLVER,
     throw: bool = False,
 ) -> Solution:
     """Normal contact stiffness of the joint at each load (docs/model.md §4, Eqs. 30–39).
@@ -171,9 +162,6 @@ def solve(
     - `loads`: total normal load F in newtons, a scalar or an array of any shape.
     - `outputs`: what to return beside K, a_l and A_r: `Outputs(regime_shares=True)` (the default)
       splits load and stiffness by regime; `Outputs(regime_shares=False)` spends nothing on it.
-    - `solver`: the per-load solve of the model's state, `NewtonBisection(max_steps=64,
-      tolerance=None)` (64 ε of the working dtype), for the models that find one (Xia2024, JZZ2010:
-      `root_finding`); refused for the others, which are in closed form or iterate on their own.
     - `throw`: raise where a point has no valid result instead of flagging it: a `StatusError`
       naming the points and their statuses, or under `jit` a runtime error with the first bad
       point's `Status.message`.
@@ -190,6 +178,6 @@ def solve(
     """
     if not isinstance(throw, bool):
         raise InputError(f"throw = {throw!r} must be true or false")
-    _, leaves, treedef, loads = _prepare(scene, loads, outputs, solver)
+    _, leaves, treedef, loads = _prepare(scene, loads, outputs)
     solution = programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef), pad=scene.model.pad_loads)
     return thrown(solution) if throw else solution

@@ -13,7 +13,7 @@ from ..numerics._compat import top_level
 from ..numerics._validate import InputError, check_instance, concrete
 from ..quantities._domain import PARAMETERS, scene_fields
 from ._scene import Scene
-from ._settings import NewtonBisection, Outputs
+from ._settings import Outputs
 
 
 def _check_loads(loads) -> None:
@@ -77,17 +77,16 @@ def _same(a, b) -> bool:
     return a is b or a == b
 
 
-def _scene_leaves(scene: Scene, outputs: Outputs, solver: NewtonBisection, loads):
+def _scene_leaves(scene: Scene, outputs: Outputs, loads):
     keep = top_level()
     last = _last_scene.get("tree")
-    if last is not None and last[0] is scene and _same(last[1], outputs) and _same(last[2], solver):
+    if last is not None and last[0] is scene and _same(last[1], outputs):
         return _cast(_last_scene, loads, keep)
     check_instance("scene", scene, Scene)
     check_instance("outputs", outputs, Outputs)
-    check_instance("solver", solver, NewtonBisection)
-    # The settings have no array leaves: they are part of the tree's structure, so that each
-    # combination is its own program.
-    tree = (scene, outputs, solver)
+    # The outputs have no array leaves: they are part of the tree's structure, so that each
+    # choice is its own program.
+    tree = (scene, outputs)
     leaves, treedef = jax.tree_util.tree_flatten(tree)
     if not all(getattr(x, "ndim", 0) == 0 for x in leaves):
         _check_scalar_parameters(scene)
@@ -125,13 +124,13 @@ def _cast(entry: dict, loads, keep: bool):
 _last_loads: tuple = (None, None, None)
 
 
-def _prepare(scene: Scene, loads, outputs: Outputs = Outputs(), solver: NewtonBisection = NewtonBisection()):
+def _prepare(scene: Scene, loads, outputs: Outputs = Outputs()):
     global _last_loads
     last, last_dtype, last_prepared = _last_loads
     seen = last is loads
     if not seen:
         _check_loads(loads)
-    dtype, tree, leaves, treedef = _scene_leaves(scene, outputs, solver, loads)
+    dtype, tree, leaves, treedef = _scene_leaves(scene, outputs, loads)
     if seen and last_dtype == dtype:
         return tree, leaves, treedef, last_prepared
     if isinstance(loads, jax.core.Tracer) or (isinstance(loads, jax.Array) and not _on_host(loads)):
@@ -154,5 +153,5 @@ def _forget() -> None:
 def prepare(scene: Scene, loads):
     """Check concrete loads and parameters, pick the working dtype, and make every float leaf an
     array of it: `(scene, loads)` as `solve` would compute with them."""
-    (scene, _, _), _, _, loads = _prepare(scene, loads)
+    (scene, _), _, _, loads = _prepare(scene, loads)
     return scene, loads

@@ -24,7 +24,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ..numerics import solve_increasing
+from ..numerics import NewtonBisection
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
 from ._load_pieces import AbstractLoadPieces
@@ -75,26 +75,21 @@ class AbstractContactModel(eqx.Module):
     `pad_loads` (True unless set: eager solves and fits pad load arrays to a few lengths, so that
     new lengths do not compile again; a model whose every load is a costly solve, such as the
     boundary-element one, sets it to False), `precision` (the relative precision of K as the model
-    computes it, 0 for round-off: fits stop no finer than it), `root_finding` (whether each load's
-    state is found by the root finder that `point_solver` is given, `solve(..., solver=...)`; a
-    model in closed form, or with an iteration of its own, says False, and a solver other than the
-    default is refused for it rather than ignored).
+    computes it, 0 for round-off: fits stop no finer than it). A model that solves for each load's
+    state holds its root finder as a field (`root_finder`, as diffrax's implicit solvers do).
     """
 
     name: eqx.AbstractClassVar[str]
     regimes: eqx.AbstractClassVar[tuple[str, ...]]
     pad_loads: ClassVar[bool] = True
     precision: ClassVar[float] = 0.0
-    root_finding: ClassVar[bool] = False
 
     @abc.abstractmethod
-    def point_solver(
-        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
-    ) -> Callable[[Float[Array, ""]], PointResult]:
+    def point_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, ""]], PointResult]:
         """Set up everything that does not depend on the load; returns `F* ↦ PointResult`.
 
         **Arguments:** `s`, the scene's dimensionless groups (valid parameters: the caller has
-        put stand-ins where they are not); `tolerance` and `max_steps` of the state's solve.
+        put stand-ins where they are not).
         """
 
     @abc.abstractmethod
@@ -125,25 +120,21 @@ class AbstractSweptModel(AbstractContactModel):
     of one load."""
 
     @abc.abstractmethod
-    def sweep_solver(
-        self, s: DimensionlessScene, *, tolerance: float, max_steps: int
-    ) -> Callable[[Float[Array, " loads"]], PointResult]:
+    def sweep_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
         """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis)."""
 
     @typing.final
-    def point_solver(self, s, *, tolerance, max_steps):
-        sweep = self.sweep_solver(s, tolerance=tolerance, max_steps=max_steps)
+    def point_solver(self, s):
+        sweep = self.sweep_solver(s)
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
 
-def curve_solver(
-    model: AbstractContactModel, s: DimensionlessScene, *, tolerance: float, max_steps: int
-) -> Callable[[Float[Array, " loads"]], PointResult]:
+def curve_solver(model: AbstractContactModel, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
     """`F*` (1-D) ↦ the `PointResult`s of all loads: a swept model's sweep, else `point_solver`
     mapped over the loads (`jax.vmap`)."""
     if isinstance(model, AbstractSweptModel):
-        return model.sweep_solver(s, tolerance=tolerance, max_steps=max_steps)
-    return jax.vmap(model.point_solver(s, tolerance=tolerance, max_steps=max_steps))
+        return model.sweep_solver(s)
+    return jax.vmap(model.point_solver(s))
 
 
 class AbstractJoint(eqx.Module):
@@ -193,10 +184,11 @@ class AbstractLargestSpotModel(AbstractContactModel):
     """A model whose state is the largest contact spot `a_l` (docs/model.md §4): load control solves
     `F_t(a_l) = F` for it.
 
-    Subclasses say how to build their joint (`joint`); the solve is this class's.
+    Subclasses say how to build their joint (`joint`) and hold the root finder of the solve
+    (`root_finder`, a `NewtonBisection`); the solve is this class's.
     """
 
-    root_finding: ClassVar[bool] = True
+    root_finder: eqx.AbstractVar[NewtonBisection]
 
     @abc.abstractmethod
     def joint(self, s: DimensionlessScene) -> AbstractJoint:
@@ -208,7 +200,7 @@ class AbstractLargestSpotModel(AbstractContactModel):
         return self.joint(s).load_pieces().knot_log_loads[1:-1]
 
     @typing.final
-    def point_solver(self, s, *, tolerance, max_steps):
+    def point_solver(self, s):
         """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (docs/model.md §4).
 
         `F_t` at the kinks (once per scene) tells which smooth piece of `F_t` holds each load
@@ -239,15 +231,8 @@ class AbstractLargestSpotModel(AbstractContactModel):
             usable = valid & in_range
             log_load = jnp.where(usable, log_load, log_load_middle)
             piece, lower, upper, guess = pieces.locate(log_load)
-            log_a_l, converged = solve_increasing(
-                _piece_residual,
-                guess,
-                (pieces, piece, log_load),
-                lower,
-                upper,
-                tolerance=tolerance,
-                max_steps=max_steps,
-                slope=_piece_residual_slope,
+            log_a_l, converged = self.root_finder.find(
+                _piece_residual, guess, (pieces, piece, log_load), lower, upper, slope=_piece_residual_slope
             )
             response = joint.response(log_a_l, log_load)
             unresolved = starts_at_zero & (log_a_l - joint.log_a_min < smallest_resolved)

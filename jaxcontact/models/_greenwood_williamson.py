@@ -23,7 +23,7 @@ from typing import ClassVar
 
 import jax.numpy as jnp
 
-from ..numerics import cached, solve_increasing
+from ..numerics import NewtonBisection, cached, check_instance
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
@@ -85,15 +85,21 @@ def _residual_slope(y, args):
 class GreenwoodWilliamson(AbstractContactModel):
     """Greenwood & Williamson (1966) with Gaussian summits from the PSD's moments (docs/model.md §9);
     every summit elastic (Hertz). One regime, "e". `Solution.a_l` is NaN: the model has no largest spot.
+
+    **Arguments:** `root_finder`, the solve for each load's separation (`NewtonBisection()`).
     """
 
     name: ClassVar[str] = "gw"
     regimes: ClassVar[tuple[str, ...]] = ("e",)
+    root_finder: NewtonBisection = NewtonBisection()
+
+    def __check_init__(self):
+        check_instance("root_finder", self.root_finder, NewtonBisection)
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s, *, tolerance, max_steps):
+    def point_solver(self, s):
         log_eta, log_R, log_sigma = summit_statistics(s)
         log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_sigma
         log_stiffness_scale = math.log(2.0) + log_eta + 0.5 * log_R + 0.5 * log_sigma
@@ -108,14 +114,12 @@ class GreenwoodWilliamson(AbstractContactModel):
             log_load = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (log_load > lowest) & (log_load <= highest) & (F_star <= LINEAR_ELASTIC_LIMIT)
             log_load = jnp.where(valid & in_range, log_load, 0.5 * (lowest + highest))
-            y, converged = solve_increasing(
+            y, converged = self.root_finder.find(
                 _residual,
                 jnp.zeros_like(log_load) - 2.0,
                 (log_load_scale, log_load),
                 -H_HIGHEST,
                 -H_LOWEST,
-                tolerance=tolerance,
-                max_steps=max_steps,
                 slope=_residual_slope,
             )
             h = -y

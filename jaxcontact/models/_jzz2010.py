@@ -9,10 +9,11 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..numerics import PowerLaw, check_instance
+from ..numerics import NewtonBisection, PowerLaw, check_instance
 from ..physics import AbstractDistribution, MajumdarBhushan, hertz_stiffness, kogut_etsion_laws, size_distribution
 from ..quantities import DimensionlessScene
 from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
@@ -23,15 +24,19 @@ class JZZ2010(AbstractLargestSpotModel):
     """Jiang, Zheng & Zhu (2010), the comparator of the paper's Figs. 7–8 (docs/model.md §5): spots
     larger than `a_c` elastic with Hertz stiffness, smaller ones fully plastic. Regimes (e, p).
 
-    **Arguments:** `distribution`, `MajumdarBhushan()` (the default) or `WangKomvopoulos()`.
+    **Arguments:** `distribution`, `MajumdarBhushan()` (the default) or `WangKomvopoulos()`;
+    `root_finder`, the a_l solve of each load (`NewtonBisection()`).
     """
 
     name: ClassVar[str] = "jzz2010"
     regimes: ClassVar[tuple[str, ...]] = ("e", "p")
     distribution: AbstractDistribution = MajumdarBhushan()
+    # Keyword-only: the base class declares it first, and the choices keep their positions.
+    root_finder: NewtonBisection = eqx.field(default=NewtonBisection(), kw_only=True)
 
     def __check_init__(self):
         check_instance("distribution", self.distribution, AbstractDistribution)
+        check_instance("root_finder", self.root_finder, NewtonBisection)
 
     def joint(self, s: DimensionlessScene) -> JZZ2010Joint:
         laws, log_a_c = kogut_etsion_laws(s.D, s.log_G, s.log_hardness, s.nu)

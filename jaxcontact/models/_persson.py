@@ -53,8 +53,7 @@ class Persson(AbstractContactModel):
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s, *, tolerance, max_steps):
-        del tolerance, max_steps  # explicit in the load
+    def point_solver(self, s):
         log_q0, log_q1 = log_band(s.log_a_min)
         exponent = 2.0 * s.D - 2.0  # of q in Q(q)
         log_c = log_areal_prefactor(s.D, s.log_G) - 2.0 * math.log(2.0 * math.pi) - jnp.log(exponent)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ..numerics import Adaptive, GaussLegendre, InputError, PowerSeries, check_choice
+from ..numerics import Adaptive, GaussLegendre, InputError, NewtonBisection, PowerSeries, check_choice
 from ..physics import (
     FamilyDerivative,
     MajumdarBhushan,
@@ -95,13 +95,16 @@ def build_model(
     quadrature_nodes=None,
     quadrature_tolerance=None,
     spot_stiffness=None,
+    max_steps=None,
+    solver_tolerance=None,
 ) -> AbstractContactModel:
     """The model object that a name and its options ask for.
 
     **Arguments:** `model`, a name of `MODELS`; the options, each a name or an object: `interaction`
     (`INTERACTIONS`), `distribution` (`DISTRIBUTIONS`), `spot_stiffness` (`SPOT_STIFFNESSES`), and the
     interaction's `quadrature` (`QUADRATURES`), with `quadrature_nodes` (Gauss–Legendre) and
-    `quadrature_tolerance` (adaptive). Options that are None take the model's defaults.
+    `quadrature_tolerance` (adaptive); `max_steps` and `solver_tolerance`, the model's root finder
+    (`NewtonBisection`). Options that are None take the model's defaults.
 
     **Raises:** `ValueError` for an unknown name, or an option the model does not have.
     """
@@ -123,6 +126,14 @@ def build_model(
         options["spot_stiffness"] = _option("spot_stiffness", spot_stiffness, SPOT_STIFFNESSES)
     if distribution is not None:
         options["distribution"] = _option("distribution", distribution, DISTRIBUTIONS)
+    if max_steps is not None or solver_tolerance is not None:
+        if "root_finder" not in fields:
+            given = "max_steps" if max_steps is not None else "solver_tolerance"
+            raise InputError(
+                f"{given} applies to models that solve for each load's state (xia2024, jzz2010, gw); model {model!r} "
+                "finds none (a closed form, or an iteration of its own): leave it out"
+            )
+        options["root_finder"] = NewtonBisection(64 if max_steps is None else max_steps, solver_tolerance)
     unknown = [k for k in options if k not in fields]
     if unknown:
         raise InputError(f"model {model!r} takes no {unknown[0]}")

@@ -17,10 +17,11 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..numerics import PowerLaw, check_instance
+from ..numerics import NewtonBisection, PowerLaw, check_instance
 from ..physics import (
     AbstractDistribution,
     AbstractInteraction,
@@ -55,6 +56,7 @@ class Xia2024(AbstractLargestSpotModel):
     - `distribution`: `MajumdarBhushan()` (Eq. 30, the default) or `WangKomvopoulos()`.
     - `spot_stiffness`: `FamilyDerivative()` (the default, Eqs. 27–29, `k = f'/ξ'`) or `Sneddon()`
       (`k = 2E√(a/π)`, one circular spot's stiffness; docs/model.md §9), divided by `1 ± r` alike.
+    - `root_finder`: the a_l solve of each load, `NewtonBisection()` (64 steps at most, 64 ε).
     """
 
     name: ClassVar[str] = "xia2024"
@@ -62,9 +64,12 @@ class Xia2024(AbstractLargestSpotModel):
     interaction: AbstractInteraction = PaperInteraction()
     distribution: AbstractDistribution = MajumdarBhushan()
     spot_stiffness: AbstractSpotStiffness = FamilyDerivative()
+    # Keyword-only: the base class declares it first, and the choices keep their positions.
+    root_finder: NewtonBisection = eqx.field(default=NewtonBisection(), kw_only=True)
 
     def __check_init__(self):
         check_instance("interaction", self.interaction, AbstractInteraction)
+        check_instance("root_finder", self.root_finder, NewtonBisection)
         check_instance("distribution", self.distribution, AbstractDistribution)
         check_instance("spot_stiffness", self.spot_stiffness, AbstractSpotStiffness)
 

@@ -13,7 +13,7 @@ from ._quadrature import (
     PowerSeries,
     integrate_log_area,
 )
-from ._rootfind import solve_increasing
+from ._rootfind import NewtonBisection, solve_increasing
 from ._validate import (
     InputError,
     JaxcontactWarning,
@@ -50,6 +50,7 @@ __all__ = [
     "integrate_log_area",
     "JaxcontactWarning",
     "MissingExtraError",
+    "NewtonBisection",
     "PlausibilityWarning",
     "PowerLaw",
     "PowerSeries",

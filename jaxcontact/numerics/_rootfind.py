@@ -27,9 +27,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+
+from ._validate import InputError
 
 
 def _forward_mode_slope(fn):
@@ -110,3 +113,35 @@ def _root_jvp(fn, slope, tolerance, max_steps, unrolled_steps, primals, tangents
     good = jnp.isfinite(slope_at_root) & (slope_at_root > 0)
     y_dot = jnp.where(good, -f_dot / jnp.where(good, slope_at_root, 1.0), 0.0)
     return (y, converged), (y_dot, np.zeros(jnp.shape(converged), dtype=jax.dtypes.float0))
+
+
+class NewtonBisection(eqx.Module):
+    """The root finder of a model that solves for each load's state (the largest spot a_l, or GW's
+    separation): Newton's method safeguarded by bisection inside a bracket, differentiated by the
+    implicit function theorem (`solve_increasing`). A model holds it, as diffrax's implicit solvers
+    hold theirs: `Xia2024(root_finder=NewtonBisection(max_steps=16))`.
+
+    **Arguments:** `max_steps`, the cap on steps (1 to 10000; a point that reaches it is flagged
+    `NOT_CONVERGED`); `tolerance` on the state's logarithm, None for 64 ε of the working dtype.
+    Static: changing them compiles a different program.
+    """
+
+    max_steps: int = eqx.field(static=True, default=64)
+    tolerance: float | None = eqx.field(static=True, default=None)
+
+    def __check_init__(self):
+        steps = self.max_steps
+        if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= 10_000:
+            raise InputError(f"NewtonBisection: max_steps = {steps!r} must be an integer in [1, 10000]")
+        if self.tolerance is not None and not 0.0 < self.tolerance < 1e-2:
+            raise InputError(f"NewtonBisection: tolerance = {self.tolerance!r} must be None or in (0, 0.01)")
+
+    def tolerance_for(self, dtype) -> float:
+        """The tolerance in the working `dtype`."""
+        return self.tolerance or float(64 * jnp.finfo(dtype).eps)
+
+    def find(self, fn, y0, args, lower, upper, *, slope: Callable | None = None):
+        """The root of the increasing `fn(y, args)` in `[lower, upper]` from `y0`: `(y, converged)`
+        (`solve_increasing`, at this finder's tolerance in the dtype of `y0`)."""
+        tolerance = self.tolerance_for(jnp.result_type(y0))
+        return solve_increasing(fn, y0, args, lower, upper, tolerance=tolerance, max_steps=self.max_steps, slope=slope)

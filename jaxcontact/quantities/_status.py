@@ -19,7 +19,7 @@ class Status(enum.IntEnum):
     - `INTERACTION_BREAKDOWN`: interaction "paper", and ω'(a) = ξ' - σ' vanishes inside the
       stiffness range (docs/model.md §3): the model is not valid there. `a_l` and the load split are
       still reported; the stiffness is NaN.
-    - `NOT_CONVERGED`: the a_l solve ran out of steps (`solve(..., solver=NewtonBisection(max_steps=...))`),
+    - `NOT_CONVERGED`: the a_l solve ran out of steps (the model's `root_finder=NewtonBisection(max_steps=...)`),
       or the boundary-element iteration out of its `max_iterations`.
     - `INVALID_LOAD`: the load is not a positive finite number (only possible for traced loads;
       concrete ones raise `ValueError`).

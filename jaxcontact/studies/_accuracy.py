@@ -11,13 +11,12 @@ both faster and more accurate) are marked, and so is the default.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import time
 
 import jax
 import numpy as np
 
-from ..core import NewtonBisection, Scene, solve
+from ..core import Scene, solve
 from ..numerics import x64
 from ..quantities import Scales
 from . import _reference as reference
@@ -29,12 +28,12 @@ ERROR_POINTS = 12
 
 @dataclasses.dataclass
 class Knob:
-    """One setting of the study: the model's options by name (`Scene.with_model`), the solver, float32."""
+    """One setting of the study: the model's options by name (`Scene.with_model`, its root finder's
+    `solver_tolerance` among them), float32."""
 
     label: str
     group: str
     options: dict
-    solver: NewtonBisection = NewtonBisection()
     float32: bool = False
     default: bool = False
 
@@ -59,7 +58,7 @@ def knobs(quick: bool = False) -> list[Knob]:
         for tol in (1e-4, 1e-8, 1e-12)
     ]
     out += [
-        Knob(f"solver tolerance {tol:g}", "a_l solver tolerance", {}, NewtonBisection(tolerance=tol))
+        Knob(f"solver tolerance {tol:g}", "a_l solver tolerance", dict(solver_tolerance=tol))
         for tol in (1e-3, 1e-5, 1e-7, 1e-9)
     ]
     out += [Knob("float32 (default settings)", "precision", {}, float32=True)]
@@ -98,7 +97,7 @@ def study(scene: Scene, F_star_range=(1e-7, 9.81e-4), quick: bool = False, progr
         variant = scene.with_model("xia2024", interaction=scene.model.interaction.name, **knob.options)
         with x64(not knob.float32):
             F = loads.astype(np.float32 if knob.float32 else np.float64)
-            run = jax.jit(functools.partial(solve, solver=knob.solver))
+            run = jax.jit(solve)
             t = time.perf_counter()
             K = np.asarray(jax.block_until_ready(run(variant, F)).stiffness, dtype=float)
             compile_s = time.perf_counter() - t
