@@ -205,7 +205,7 @@ def fit(
         profiles=profiles,
         information=information,
         prior=None if gaussian is None else gaussian.source,
-        observables=data.columns,
+        observables=tuple(c.name for c in data.columns),
         on_bound=result["bounds"],
     )
 

@@ -17,7 +17,8 @@ import numpy as np
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
 
-from ._residuals import FLAGGED_RESIDUAL, Observations
+from ._observables import Approach, Stiffness
+from ._residuals import Observations
 from ._statistics import point_scatter
 
 # Curves are padded to a multiple of this many points (the padding points are cut off before the
@@ -42,21 +43,21 @@ def _column(name: str, values, size: int) -> np.ndarray:
 
 
 def _stated_noise(noise, columns) -> dict:
-    """σ by observable from `noise`: a number (the one observable's), or a dict by observable."""
+    """σ by observable's name from `noise`: a number (the one observable's), or a dict by name."""
     if noise is None:
         return {}
+    by_name = {c.name: c for c in columns}
     if not isinstance(noise, dict):
         if len(columns) > 1:
             raise InputError(
                 f"noise = {noise!r}: with both observables, give a dict {{'stiffness': σ of ln K, 'approach': σ in m}}"
             )
-        noise = {columns[0]: noise}
+        noise = {columns[0].name: noise}
     for name, value in noise.items():
-        if name not in columns:
-            raise InputError(f"noise: {name!r} is not an observable of this fit (valid: {', '.join(columns)})")
-        units = "σ of ln K" if name == "stiffness" else "σ of the approach in m"
+        if name not in by_name:
+            raise InputError(f"noise: {name!r} is not an observable of this fit (valid: {', '.join(by_name)})")
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
-            raise InputError(f"noise = {value!r} must be > 0 (valid range (0, inf)): {units}")
+            raise InputError(f"noise = {value!r} must be > 0 (valid range (0, inf)): {by_name[name].noise_units}")
     return {k: float(v) for k, v in noise.items()}
 
 
@@ -70,15 +71,11 @@ def observations(loads, stiffness, approach, reference_load, noise, dtype, multi
         raise InputError("loads must be positive and finite (valid range (0, inf))")
     columns, values = [], []
     if stiffness is not None:
-        K = _column("stiffness", stiffness, loads.size)
-        if not np.all(np.isnan(K) | ((K > 0) & np.isfinite(K))):
-            raise InputError("stiffness must be positive and finite (valid range (0, inf)), or NaN where not measured")
-        columns.append("stiffness")
-        values.append(np.log(K))
+        columns.append(Stiffness())
+        values.append(columns[-1].target(_column("stiffness", stiffness, loads.size)))
     if approach is not None:
-        delta = _column("approach", approach, loads.size)
-        if np.any(np.isinf(delta)):
-            raise InputError("approach must be finite (m), or NaN where not measured")
+        columns.append(Approach())
+        delta = columns[-1].target(_column("approach", approach, loads.size))
         F0 = float(np.min(loads) if reference_load is None else reference_load)
         if not (math.isfinite(F0) and F0 > 0):
             raise InputError(f"reference_load = {reference_load!r} must be positive and finite (valid range (0, inf))")
@@ -87,7 +84,6 @@ def observations(loads, stiffness, approach, reference_load, noise, dtype, multi
             raise InputError(
                 f"approach at the reference load {F0:.6g} N must be 0 (it is measured relative to that load)"
             )
-        columns.append("approach")
         values.append(np.where(at_reference, np.nan, delta))  # zero by definition: no information
     else:
         F0 = float(np.min(loads))
@@ -95,10 +91,10 @@ def observations(loads, stiffness, approach, reference_load, noise, dtype, multi
     if len(columns) == 1:
         missing = np.isnan(targets[:, 0]) & ~((loads == F0) & (approach is not None))
         if missing.any():
-            raise InputError(f"{columns[0]} must be finite at every load when it is the only curve fitted")
+            raise InputError(f"{columns[0].name} must be finite at every load when it is the only curve fitted")
     stated = _stated_noise(noise, columns)
-    sigma = [stated.get(c, _default_sigma(c, loads, targets[:, k], len(columns))) for k, c in enumerate(columns)]
-    flagged = [FLAGGED_RESIDUAL if c == "stiffness" else _rms(targets[:, k]) for k, c in enumerate(columns)]
+    sigma = [stated.get(c.name, _default_sigma(c, loads, targets[:, k], len(columns))) for k, c in enumerate(columns)]
+    flagged = [c.flagged(targets[:, k]) for k, c in enumerate(columns)]
     data = Observations(
         loads=jnp.asarray(_padded(loads, multiple), dtype),
         targets=jnp.asarray(_padded(targets, multiple), dtype),
@@ -110,15 +106,10 @@ def observations(loads, stiffness, approach, reference_load, noise, dtype, multi
     return data, loads, len(stated) == len(columns)
 
 
-def _rms(values) -> float:
-    values = values[np.isfinite(values)]
-    return float(np.sqrt(np.mean(values * values))) if values.size else 1.0
-
-
-def _default_sigma(column: str, loads, values, n_columns: int) -> float:
+def _default_sigma(column, loads, values, n_columns: int) -> float:
     """σ of an observable whose noise was not stated (see the module's docstring)."""
     keep = np.isfinite(values)
-    size = 1.0 if column == "stiffness" else _rms(values)
+    size = column.scale(values)
     if n_columns == 1:
         return size
     scatter = point_scatter(np.log(loads[keep]), values[keep]) if keep.sum() >= 3 else math.nan

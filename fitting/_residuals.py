@@ -1,19 +1,8 @@
 """The fit's residuals: the model against the data, in statistical coordinates.
 
-Two observables, each a column of `Observations.targets`:
-
-- `"stiffness"`: `r = ln K_model(F; θ) − ln K` (relative errors, as measurement noise on K usually is);
-- `"approach"`: `r = δ_model(F; θ) − δ` (m), the approach relative to the preload F0
-  (`jaxcontact.applications.approach_star`, piecewise Gauss–Legendre: fixed cost, cheap forward-mode
-  derivatives), with a displacement sensor's absolute noise.
-
-Each column is divided by its noise σ (`Observations.weights` = 1/σ), so that a curve of both is one
-least-squares problem. A target that is NaN was not measured: its residual is 0 and it is left out
-of every count. Data points that the model cannot evaluate at a trial θ (interaction breakdown,
-load out of range) contribute a constant residual (`FLAGGED_RESIDUAL` in ln K; the curve's rms
-approach in δ) with no gradient, so that no start can win by pushing points out of the model;
-points where it gives K = 0 (every spot plastic) contribute `ZERO_STIFFNESS_RESIDUAL`, worse than
-any real misfit.
+Each observable (`_observables`: the stiffness, the approach) is a column of `Observations.targets`,
+divided by its noise σ (`Observations.weights` = 1/σ), so that a curve of both is one least-squares
+problem. A target that is NaN was not measured: its residual is 0 and it is left out of every count.
 """
 
 from __future__ import annotations
@@ -26,20 +15,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-import jaxcontact as jc
 from jaxcontact import programs
-from jaxcontact.applications import approach_star
 
+from ._observables import FLAGGED_RESIDUAL, AbstractObservable, Stiffness
 from ._parameters import with_stat
-
-FLAGGED_RESIDUAL = 1.0  # a miss by a factor e in stiffness
-# A valid point where the model says K = 0 (every spot plastic) against a measured K > 0 misses by
-# an infinite factor; this stands for it, worse than any misfit a model of the data could have, so
-# that no start wins by making the stiffness vanish.
-ZERO_STIFFNESS_RESIDUAL = 50.0
-# Gauss–Legendre nodes per piece of the approach's quadrature: ~1e-8 relative (docs/applications.md),
-# far below any displacement sensor's noise.
-APPROACH_NODES = 8
 
 
 class Observations(eqx.Module):
@@ -47,8 +26,8 @@ class Observations(eqx.Module):
 
     `loads` (N); `targets` (load, column): ln K and/or δ − δ(F0) (m), NaN where not measured;
     `weights` (column): 1/σ; `flagged` (column): the residual of a point outside the model, in the
-    column's units before weighting; `reference_load` F0 (N) of the approach; `columns`: "stiffness"
-    and/or "approach" (static).
+    column's units before weighting; `reference_load` F0 (N) of the approach; `columns`: the
+    `AbstractObservable` of each column (static).
     """
 
     loads: Float[Array, " points"]
@@ -56,7 +35,7 @@ class Observations(eqx.Module):
     weights: Float[Array, " columns"]
     flagged: Float[Array, " columns"]
     reference_load: Float[Array, ""]
-    columns: tuple[str, ...] = eqx.field(static=True)
+    columns: tuple[AbstractObservable, ...] = eqx.field(static=True)
 
     @property
     def measured(self) -> np.ndarray:
@@ -72,7 +51,7 @@ def stiffness_curve(loads, log_stiffness) -> Observations:
         weights=jnp.ones(1, loads.dtype),
         flagged=jnp.full(1, FLAGGED_RESIDUAL, loads.dtype),
         reference_load=jnp.min(loads),
-        columns=("stiffness",),
+        columns=(Stiffness(),),
     )
 
 
@@ -82,27 +61,6 @@ def log_residuals(stat, scene, params, loads, log_stiffness):
     return r[:, 0], ok[:, 0]
 
 
-# The fit reads the stiffness and the status alone.
-_OUTPUTS = jc.Outputs(regime_shares=False)
-
-
-def _stiffness(scene, loads, log_stiffness, flagged):
-    sol = jc.solve(scene, loads, outputs=_OUTPUTS)
-    ok = sol.ok & (sol.stiffness > 0)
-    K = jnp.where(ok, sol.stiffness, 1.0)  # no log of NaN or 0: no NaN in any gradient
-    missed = jnp.where(sol.fully_plastic, ZERO_STIFFNESS_RESIDUAL, flagged)
-    return jnp.where(ok, jnp.log(K) - log_stiffness, missed), ok, sol.status
-
-
-def _approach(scene, loads, delta, flagged, reference_load):
-    scales = jc.Scales.of(scene)
-    log_F = jnp.log(loads / scales.load)
-    delta_star, status = approach_star(scene, log_F, jnp.log(reference_load / scales.load), APPROACH_NODES)
-    ok = status == jc.Status.OK
-    model = jnp.where(ok, delta_star, 0.0) * scales.length
-    return jnp.where(ok, model - delta, flagged), ok, status
-
-
 def observed_residuals(stat, scene, params, data: Observations):
     """`(r, ok, status)`, each (load, column): weighted residuals (0 where not measured), the model's
     valid mask and its status, at statistical coordinates `stat`."""
@@ -110,10 +68,7 @@ def observed_residuals(stat, scene, params, data: Observations):
     rows = []
     for k, column in enumerate(data.columns):
         target = jnp.where(jnp.isnan(data.targets[:, k]), 0.0, data.targets[:, k])
-        if column == "stiffness":
-            rows.append(_stiffness(scene, data.loads, target, data.flagged[k]))
-        else:
-            rows.append(_approach(scene, data.loads, target, data.flagged[k], data.reference_load))
+        rows.append(column.residuals(scene, data.loads, target, data.flagged[k], data.reference_load))
     r, ok, status = (jnp.stack(x, axis=1) for x in zip(*rows))
     r = jnp.where(jnp.isnan(data.targets), 0.0, r * data.weights)
     return r, ok, status
@@ -143,7 +98,7 @@ def residuals_and_jacobian(stat, scene, params, data: Observations):
             J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
             return r, ok, status, J
 
-        static = f"fitting {[p.name for p in params]} {list(data.columns)}"
+        static = f"fitting {[p.name for p in params]} {[c.name for c in data.columns]}"
         _PROGRAMS[key] = programs.program("residuals_and_jacobian", static, flat, args, closed_over=(treedef, data_def))
     return _PROGRAMS[key](*args)
 

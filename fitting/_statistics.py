@@ -210,17 +210,12 @@ def _misfit(loads, data, e) -> str | None:
     for k, column in enumerate(data.columns):
         keep = used[:, k]
         y, rk = targets[keep, k], r[keep, k]
-        if column == "approach":  # relative to the curve's size, as ln K's residuals are
-            scale = float(np.sqrt(np.mean(y * y))) if y.size else 1.0
-            y, rk = y / scale, rk / scale
-        found = misfit_warning(np.log(loads[keep]), y, rk, OBSERVED[column])
+        scale = column.scale(y)  # relative to the curve's size, as ln K's residuals are
+        y, rk = y / scale, rk / scale
+        found = misfit_warning(np.log(loads[keep]), y, rk, column.misfit_unit)
         if found:
             return found
     return None
-
-
-# What a relative residual of each observable is "in", for the misfit warning.
-OBSERVED = {"stiffness": "in K", "approach": "of the approach's rms"}
 
 
 # Below this rms (ln units, ~2 %) a misfit is too small to call the model wrong, whatever the data's scatter.
