@@ -21,7 +21,7 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
-from jaxcontact.numerics import float_array
+from jaxcontact.numerics import float_array, standard_promotion
 
 from ._identifiability import combinations
 from ._parameters import resolve, stat_of_u
@@ -82,8 +82,9 @@ def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
 
     def run(u0):
         value, grad = jax.value_and_grad(loss)(u0)
-        init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
-        u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
+        with standard_promotion():
+            init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
+            u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
         return u, value, k
 
     return run

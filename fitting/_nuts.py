@@ -12,7 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxcontact.numerics import cached, optional_import
+from jaxcontact.numerics import cached, optional_import, standard_promotion
 
 
 @dataclasses.dataclass(frozen=True)
@@ -47,7 +47,8 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
     adaptation = blackjax.window_adaptation(blackjax.nuts, logdensity)
     # Compiled as one program: run eagerly, its set-up dispatches a hundred small ones.
     adapt = jax.jit(lambda key, position: adaptation.run(key, position, num_steps=warmup)[0])
-    state, parameters = adapt(adapt_key, initial)
+    with standard_promotion():
+        state, parameters = adapt(adapt_key, initial)
     jax.block_until_ready(state.position)
     t1 = time.perf_counter()
     kernel = blackjax.nuts(logdensity, **parameters)
@@ -64,13 +65,15 @@ def run_chains(logdensity, initial, *, chains: int = 4, warmup: int = 500, draws
 
         return jax.lax.scan(one_step, states, jax.random.split(key, draws))[1]
 
-    compiled = sample.lower(states, chain_key).compile()
+    with standard_promotion():
+        compiled = sample.lower(states, chain_key).compile()
     t2 = time.perf_counter()
     positions, acceptance, divergent = compiled(states, chain_key)
     jax.block_until_ready(positions)
     t3 = time.perf_counter()
     positions = np.swapaxes(np.asarray(positions), 0, 1)  # (chains, draws, dimension)
-    ess, rhat = (np.asarray(x, dtype=float) for x in _diagnostics(blackjax)(positions))
+    with standard_promotion():
+        ess, rhat = (np.asarray(x, dtype=float) for x in _diagnostics(blackjax)(positions))
     return Chains(
         positions=positions,
         ess=ess,

@@ -40,6 +40,10 @@ import importlib.util  # noqa: E402
 import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
+# Strict dtype promotion: a mixed-precision operation in the library (a float32 count beside float64
+# values, a real kernel times a complex spectrum) is an error here, not a silent promotion. The library
+# runs the third-party code that is not strict-clean under standard promotion (numerics.standard_promotion).
+jax.config.update("jax_numpy_dtype_promotion", "strict")
 
 # JAXCONTACT_TYPECHECK=1 checks every annotation of the library as the suite runs it (jaxtyping's
 # import hook with beartype, as the anchors run theirs; ints stand for floats as PEP 484 says),

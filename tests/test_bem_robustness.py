@@ -159,3 +159,10 @@ def test_a_load_past_full_contact_is_flagged(capped):
 def test_a_load_past_full_contact_leaves_the_gradient_finite(capped):
     gradient, _ = _past_full_contact(capped)
     assert np.all(np.isfinite(np.asarray(gradient)))
+
+
+def test_the_contact_fractions_are_in_the_working_dtype():
+    # A mean of a bool grid is float32 in JAX whatever x64 says; a fraction counted in float32 carries
+    # ~1e-7 of round-off (and past 2^24 points cannot count a point), below the solve's own accuracy.
+    sol = bem.solve(HEIGHTS, L, E, LOADS, hardness=H)
+    assert sol.contact_fraction.dtype == sol.plastic_fraction.dtype == jnp.float64

@@ -128,7 +128,7 @@ def _counting(calls):
 
 
 def _program_args():
-    return np.linspace(0.0, 1.0, 5), (np.float32(2.0), np.arange(5, dtype=np.float32))
+    return np.linspace(0.0, 1.0, 5), (np.float64(2.0), np.arange(5, dtype=np.float64))
 
 
 def test_an_exported_program_is_read_back_without_tracing(tmp_path):

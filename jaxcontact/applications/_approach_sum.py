@@ -73,7 +73,7 @@ def approach_star(scene: Scene, log_loads, log_reference, nodes: int):
     reasons = jnp.take_along_axis(sol.status.reshape(x.shape), first[:, None], axis=1)[:, 0]
     reasons = jnp.where(reasons == Status.OK, Status.NOT_CONVERGED, reasons)
     lo, hi = jnp.minimum(at, at_reference), jnp.maximum(at, at_reference)
-    pieces = jnp.arange(half.size)
+    pieces = jnp.arange(half.size, dtype=lo.dtype)
     on_path = (pieces[None, :] >= lo[:, None]) & (pieces[None, :] < hi[:, None]) & bad[None, :]
     status = jnp.where(jnp.any(on_path, axis=1), reasons[jnp.argmax(on_path, axis=1)], Status.OK)
     return jnp.where(status == Status.OK, delta, jnp.nan), status.astype(jnp.int32)

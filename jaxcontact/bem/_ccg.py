@@ -65,7 +65,7 @@ def _masked_sum(mask, x):
 
 
 def _masked_mean(mask, x):
-    return _masked_sum(mask, x) / jnp.maximum(jnp.sum(mask), 1)
+    return _masked_sum(mask, x) / jnp.maximum(jnp.sum(mask, dtype=x.dtype), 1.0)
 
 
 def _with_total(pressure, total, hardness, passes: int = _LOAD_PASSES):
@@ -73,8 +73,8 @@ def _with_total(pressure, total, hardness, passes: int = _LOAD_PASSES):
     for _ in range(passes):
         pressure = jnp.clip(pressure, 0.0, hardness)
         inside = (pressure > 0) & (pressure < hardness)
-        count = jnp.sum(inside)
-        shift = (total - jnp.sum(pressure)) / jnp.maximum(count, 1)
+        count = jnp.sum(inside, dtype=pressure.dtype)
+        shift = (total - jnp.sum(pressure)) / jnp.maximum(count, 1.0)
         pressure = jnp.where(inside, pressure + shift, pressure)
     return jnp.clip(pressure, 0.0, hardness)
 
@@ -158,9 +158,11 @@ def contact_cg(
         residual = residual_of(gap, p)
         converged = residual <= tolerance
         norm = _masked_sum(free, gap * search(gap, free))
-        in_contact = jnp.sum(p > 0)
+        in_contact = jnp.sum(p > 0, dtype=p.dtype)
         if capped:
-            mixing = (state.mix_steps > 0) | ((in_contact > 0) & (jnp.sum(free) <= _MIN_FREE_SHARE * in_contact))
+            mixing = (state.mix_steps > 0) | (
+                (in_contact > 0) & (jnp.sum(free, dtype=p.dtype) <= _MIN_FREE_SHARE * in_contact)
+            )
             moved, t, restart = jax.lax.cond(
                 mixing,
                 lambda: (

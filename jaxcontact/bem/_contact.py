@@ -189,8 +189,9 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
         found=jax.lax.stop_gradient(found),
         offset=offset,
         stiffness=stiffness,
-        contact_fraction=jnp.mean(found > 0),
-        plastic_fraction=jnp.mean(plastic),
+        # In the working dtype: JAX's mean of a bool is float32 whatever x64 says.
+        contact_fraction=jnp.mean(found > 0, dtype=found.dtype),
+        plastic_fraction=jnp.mean(plastic, dtype=found.dtype),
         mean_gap=jnp.mean(jnp.maximum(gap, 0.0)),
         iterations=state.iterations,
         status=jnp.select(

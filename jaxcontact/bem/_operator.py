@@ -146,11 +146,17 @@ class Compliance(eqx.Module):
         """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in
         full contact, and the constrained iteration's preconditioner on its free set (either substrate)."""
         n = self.n
-        return jnp.fft.irfft2(jnp.fft.rfft2(displacement) * self.stiffness, s=(n, n))
+        return jnp.fft.irfft2(_times(jnp.fft.rfft2(displacement), self.stiffness), s=(n, n))
 
     def __call__(self, pressure: Float[Array, "n n"]) -> Float[Array, "n n"]:
         n = self.n
         if not self.padded:
-            return jnp.fft.irfft2(jnp.fft.rfft2(pressure) * self.kernel, s=(n, n))
+            return jnp.fft.irfft2(_times(jnp.fft.rfft2(pressure), self.kernel), s=(n, n))
         padded = jnp.zeros((2 * n, 2 * n), pressure.dtype).at[:n, :n].set(pressure)
-        return jnp.fft.irfft2(jnp.fft.rfft2(padded) * self.kernel, s=(2 * n, 2 * n))[:n, :n]
+        return jnp.fft.irfft2(_times(jnp.fft.rfft2(padded), self.kernel), s=(2 * n, 2 * n))[:n, :n]
+
+
+def _times(spectrum, kernel):
+    # The product that standard promotion would form (the real kernel made complex), written out so
+    # that it holds under strict promotion too: the same program.
+    return spectrum * kernel.astype(spectrum.dtype)

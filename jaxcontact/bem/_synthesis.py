@@ -69,4 +69,4 @@ def synthesised_heights(D, log_G, log_a_min, grid: int, seeds: tuple[int, ...], 
         cut = (q <= q_max * (1 + 1e-9)).astype(dtype)  # a mode on the cutoff is kept, as SurfaceTopography keeps it
     amplitude = jnp.where(q > 0, amplitude * cut, 0.0)
     noises = jnp.asarray(np.stack([noise(seed, grid) for seed in seeds]), complex_dtype(dtype))
-    return jnp.real(jnp.fft.ifft2(amplitude * noises))
+    return jnp.real(jnp.fft.ifft2(amplitude.astype(noises.dtype) * noises))

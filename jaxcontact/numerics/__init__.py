@@ -3,7 +3,7 @@
 what differs between the JAX versions supported."""
 
 from ._caches import cached, clear_caches, register_cache
-from ._compat import x64
+from ._compat import standard_promotion, x64
 from ._powerlaw import PowerLaw, exponential_integral
 from ._quadrature import (
     AbstractQuadrature,
@@ -55,5 +55,6 @@ __all__ = [
     "PowerLaw",
     "PowerSeries",
     "solve_increasing",
+    "standard_promotion",
     "x64",
 ]

@@ -70,3 +70,11 @@ def complex_dtype(dtype):
     """The complex dtype of a real one's precision (complex128 for float64, complex64 for float32),
     without the implicit promotion that JAX's strict mode refuses."""
     return jnp.complex128 if jnp.dtype(dtype) == jnp.float64 else jnp.complex64
+
+
+def standard_promotion():
+    """A context with JAX's standard dtype promotion, around the third-party code this package calls
+    that is not clean under strict promotion (blackjax's warm-up schedule, optax's L-BFGS, quadax's
+    adaptive rule): a user who runs with `jax_numpy_dtype_promotion="strict"` gets results, not their
+    errors. This package's own code is strict-clean; the setting is restored on leaving."""
+    return jax.numpy_dtype_promotion("standard")

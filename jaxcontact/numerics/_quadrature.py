@@ -17,6 +17,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._caches import cached
+from ._compat import standard_promotion
 from ._pole_integral import PoleIntegral
 from ._validate import InputError
 
@@ -152,4 +153,6 @@ class Adaptive(AbstractRowQuadrature):
             )
             return value
 
-        return jnp.where(nonempty, jnp.vectorize(one_row)(log_lower, upper, *row_args), 0.0)
+        with standard_promotion():
+            rows = jnp.vectorize(one_row)(log_lower, upper, *row_args)
+        return jnp.where(nonempty, rows, 0.0)
