@@ -3,15 +3,14 @@ zoom line search on the model's exact gradients (docs/fitting.md, "Many curves a
 
 Each curve is fitted as `fitting.fit` fits one: ln-stiffness residuals, the bounded
 reparameterisation `s = low + (high − low)·sigmoid(u)`, several starts (a Latin hypercube, the
-scene's values one of them), the best kept; then the Gauss–Newton covariance at its optimum, Student-t
-intervals and the identifiability of its combinations, per curve. The whole batch is one XLA program:
-on an accelerator the curves run in parallel.
+scene's values one of them), the best kept and finished by Gauss–Newton steps (the optimum of the
+least-squares problem itself, as `fit` finds it, not only where L-BFGS's tests stopped); then, per
+curve, the statistics `fit` gives (`_batch_result`). The whole batch is one XLA program: on an
+accelerator the curves run in parallel.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import math
 import time
 
 import jax
@@ -23,35 +22,13 @@ from jaxcontact import InputError
 from jaxcontact.core import prepare
 from jaxcontact.numerics import float_array, standard_promotion
 
-from ._identifiability import combinations
+from ._batch_result import BatchResult, batch_statistics, without
 from ._parameters import resolve, stat_of_u
 from ._residuals import Observations, observed_residuals, stiffness_curve
-from ._statistics import NOTHING_DETERMINED, bounds_reached, nothing_determined, stderr_and_interval, student_t
 
-
-@dataclasses.dataclass(frozen=True)
-class BatchResult:
-    """Per curve (leading axis of every array): `values`, `stderr`, `ci95` (dicts by name of arrays;
-    `ci95[name]` has shape (curves, 2)), `correlation` (curves, p, p), `loss` (½ mean r²), `iterations`,
-    `success` (converged, finite, enough valid points, no parameter on a search bound, and some
-    combination of the parameters determined: a curve of pure noise is not a success), `flagged`
-    (valid-point mask is its negation: shape (curves, points)), `determined` (curves, p: whether each
-    Fisher combination is determined), `warnings` (a tuple of strings per curve), `wall_time` (s,
-    compilation included) and `compile_time` (0 where a batch of the same shape was compiled before in this process)."""
-
-    params: tuple[str, ...]
-    values: dict
-    stderr: dict
-    ci95: dict
-    correlation: np.ndarray
-    loss: np.ndarray
-    iterations: np.ndarray
-    success: np.ndarray
-    flagged: np.ndarray
-    determined: np.ndarray
-    warnings: tuple
-    wall_time: float
-    compile_time: float
+# Gauss–Newton steps after L-BFGS (each taken only where it lowers the loss): from where L-BFGS's tests
+# stop on the ill-conditioned D–G valley, a few reach the least-squares optimum to round-off.
+POLISH_STEPS = 4
 
 
 def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
@@ -158,9 +135,12 @@ def fit_batch(
             _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
             compile_time += time.perf_counter() - t1
         outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
-    u, loss, k, r, ok, J = (np.concatenate(parts)[:curves] for parts in zip(*outputs))
-    result = _statistics(fitted, u, loss, k, r, ok, J, max_iter, time.perf_counter() - t0, compile_time)
-    return _without(result, bad)
+    u, loss, k, r, ok, status, J = (np.concatenate(parts)[:curves] for parts in zip(*outputs))
+    wall_time = time.perf_counter() - t0
+    log_stiffness = np.log(stiffness)
+    outcome = (u, loss, k, r, ok, status, J)
+    result = batch_statistics(fitted, loads, log_stiffness, outcome, max_iter, wall_time, compile_time)
+    return without(result, bad)
 
 
 def _bad_points(loads, stiffness) -> dict[int, str]:
@@ -175,120 +155,60 @@ def _bad_points(loads, stiffness) -> dict[int, str]:
     return bad
 
 
-def _without(result: BatchResult, bad: dict[int, str]) -> BatchResult:
-    """`result` with the curves in `bad` unfitted: NaN values and intervals, success False, the reason."""
-    if not bad:
-        return result
-    rows = list(bad)
-    values, stderr, ci95 = ({k: v.copy() for k, v in d.items()} for d in (result.values, result.stderr, result.ci95))
-    for d in (values, stderr, ci95):
-        for v in d.values():
-            v[rows] = np.nan
-    correlation, loss, success = result.correlation.copy(), result.loss.copy(), result.success.copy()
-    correlation[rows], loss[rows], success[rows] = np.nan, np.nan, False
-    flagged, determined = result.flagged.copy(), result.determined.copy()
-    flagged[rows], determined[rows] = True, False
-    warnings = tuple((f"{bad[c]}: the curve was not fitted",) if c in bad else w for c, w in enumerate(result.warnings))
-    return dataclasses.replace(
-        result,
-        values=values,
-        stderr=stderr,
-        ci95=ci95,
-        correlation=correlation,
-        loss=loss,
-        success=success,
-        flagged=flagged,
-        determined=determined,
-        warnings=warnings,
-    )
-
-
 # Compiled batch programs, by scene structure, fitted parameters, settings and argument shapes: a
 # second batch of the same shape (other curves, other fixed values) compiles nothing.
 _PROGRAMS: dict = {}
 
 
+def _polished(scene, fitted, data: Observations, u):
+    """Gauss–Newton steps from `u` (optimiser coordinates), each kept only where it lowers the loss:
+    `(u, loss, r, ok, status, J)` at the best point evaluated, `J = ∂r/∂stat` (statistical coordinates).
+    One evaluation of the residuals and their Jacobian per step, the same program each time."""
+
+    def residuals(stat):
+        r, ok, status = observed_residuals(stat, scene, fitted, data)
+        return r, (r, ok, status)
+
+    def evaluate(u):
+        J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat_of_u(fitted, u))
+        return r, ok, status, J
+
+    def step(_, carry):
+        trial, best_u, best = carry
+        found = evaluate(trial)
+        r = found[0].reshape(-1)
+        loss = 0.5 * jnp.mean(r * r)
+        better = jnp.isfinite(loss) & (loss < best[0])
+        best_u = jnp.where(better, trial, best_u)
+        best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (loss, *found), best)
+        _, r_best, ok_best, _, J_best = best
+        used = (ok_best & ~jnp.isnan(data.targets)).reshape(-1)
+        # ∂stat/∂u, one coordinate at a time (the map is elementwise): J in optimiser coordinates.
+        slope = jax.jvp(lambda x: stat_of_u(fitted, x), (best_u,), (jnp.ones_like(best_u),))[1]
+        J_u = jnp.where(used[:, None], J_best.reshape(r.size, -1) * slope[None, :], 0.0)
+        delta = jnp.linalg.lstsq(J_u, -jnp.where(used, r_best.reshape(-1), 0.0))[0]
+        return best_u + jnp.where(jnp.isfinite(delta), delta, 0.0), best_u, best
+
+    shapes = jax.eval_shape(evaluate, u)
+    empty = (jnp.asarray(jnp.inf, u.dtype), *(jnp.zeros(x.shape, x.dtype) for x in shapes))
+    _, u, (loss, r, ok, status, J) = jax.lax.fori_loop(0, POLISH_STEPS, step, (u, u, empty))
+    return u, loss, r, ok, status, J
+
+
 def _program(treedef, fitted, max_iter: int, tol: float):
     """(scene leaves, loads, ln K, starts) ↦ vmap over curves of (vmap over starts of the solver, the
-    best start, its residuals and Jacobian)."""
+    best start polished, its loss, steps, residuals, valid mask, statuses and Jacobian)."""
 
     def one_curve(scene, loads, log_stiffness, u0s):
         data = stiffness_curve(loads, log_stiffness)
         run = _solver(scene, fitted, data, max_iter, tol)
         us, losses, ks = jax.vmap(run)(u0s)
         best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
-        stat = stat_of_u(fitted, us[best])
-
-        def residuals(s):
-            r, ok, _ = observed_residuals(s, scene, fitted, data)
-            return r[:, 0], (r[:, 0], ok[:, 0])
-
-        J, (r, ok) = jax.jacfwd(residuals, has_aux=True)(stat)
-        return us[best], losses[best], ks[best], r, ok, J
+        u, loss, r, ok, status, J = _polished(scene, fitted, data, us[best])
+        return u, loss, ks[best], r, ok, status, J
 
     def batch(leaves, loads, log_stiffness, u0s):
         scene = jax.tree_util.tree_unflatten(treedef, leaves)
         return jax.vmap(one_curve, in_axes=(None, 0, 0, None))(scene, loads, log_stiffness, u0s)
 
     return batch
-
-
-def _statistics(fitted, u, loss, k, r, ok, J, max_iter, wall_time, compile_time) -> BatchResult:
-    """Per curve: Gauss–Newton covariance on its valid points, Student-t intervals, identifiability, warnings."""
-    p = len(fitted)
-    curves = u.shape[0]
-    stat = np.array([[q.stat_from_u(x) for q, x in zip(fitted, row)] for row in u])
-    values = {q.name: np.array([float(q.from_stat(s)) for s in stat[:, i]]) for i, q in enumerate(fitted)}
-    stderr = {q.name: np.full(curves, np.nan) for q in fitted}
-    ci95 = {q.name: np.full((curves, 2), np.nan) for q in fitted}
-    correlation = np.full((curves, p, p), np.nan)
-    determined = np.zeros((curves, p), bool)
-    unusable = np.zeros(curves, bool)
-    warnings = []
-    for c in range(curves):
-        used = ok[c]
-        n = int(used.sum())
-        notes = []
-        if k[c] >= max_iter:
-            notes.append(f"did not converge in {max_iter} L-BFGS steps")
-        if n < r.shape[1]:
-            notes.append(f"{r.shape[1] - n} of {r.shape[1]} points are outside the model at the optimum")
-        if n > p:
-            Jc, rc = J[c][used], r[c][used]
-            s2 = float(rc @ rc) / (n - p)
-            JTJ = Jc.T @ Jc
-            if np.linalg.matrix_rank(JTJ) == p and s2 > 0:
-                inverse = np.linalg.inv(JTJ)
-                spread = np.sqrt(np.diag(inverse))
-                correlation[c] = inverse / np.outer(spread, spread)
-                t = student_t(n - p)
-                for i, q in enumerate(fitted):
-                    se = math.sqrt(s2 * inverse[i, i])
-                    stderr[q.name][c], ci95[q.name][c] = stderr_and_interval(q, stat[c, i], se, t)
-                found = combinations(fitted, JTJ / s2)
-                determined[c] = [f.determined for f in found]
-                if nothing_determined(found):
-                    notes.append(NOTHING_DETERMINED)
-                    unusable[c] = True
-                elif not all(determined[c]):
-                    notes.append("the curve leaves a combination of the parameters open (see `determined`)")
-        bounds = bounds_reached(fitted, stat[c], r[c][used], J[c][used])
-        unusable[c] |= bool(bounds)
-        notes += bounds
-        warnings.append(tuple(notes))
-    success = (k < max_iter) & np.isfinite(loss) & (ok.sum(axis=1) > p) & ~unusable
-    return BatchResult(
-        params=tuple(q.name for q in fitted),
-        values=values,
-        stderr=stderr,
-        ci95=ci95,
-        correlation=correlation,
-        loss=np.asarray(loss, dtype=float),
-        iterations=np.asarray(k),
-        success=success,
-        flagged=~ok,
-        determined=determined,
-        warnings=tuple(warnings),
-        wall_time=wall_time,
-        compile_time=compile_time,
-    )

@@ -17,7 +17,7 @@ import jaxcontact as jc
 from ._identifiability import combinations, report
 from ._optimise import gauss_newton
 from ._parameters import FitParameter
-from ._residuals import evaluated
+from ._residuals import Evaluated, evaluated
 
 # A curve that fixes no combination of the parameters has measured none of them (e.g. pure noise):
 # its optimum is wherever the noise put it, and the fit is not a success.
@@ -111,11 +111,18 @@ def stderr_and_interval(q: FitParameter, stat: float, se: float, quantile: float
 
 
 def statistics(scene, params, loads, data, stat_hat) -> dict:
-    """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum.
+    """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum
+    `stat_hat`, from the fit's compiled residuals (`statistics_of`).
 
     `loads` is the curve as given; `data` the padded `Observations`, whose padding is cut off here.
     """
-    e = evaluated(stat_hat, scene, params, data, loads.size)
+    return statistics_of(evaluated(stat_hat, scene, params, data, loads.size), params, loads, data, stat_hat)
+
+
+def statistics_of(e: Evaluated, params, loads, data, stat_hat) -> dict:
+    """What `statistics` gives, from the residuals and Jacobian `e` at the optimum `stat_hat`: the one
+    place where an optimum becomes covariance, intervals, identifiability and warnings (`fit` and
+    `fit_batch` both end here)."""
     columns = len(data.columns)
     warnings = []
     flagged = np.flatnonzero(e.measured & ~e.ok)

@@ -1,0 +1,146 @@
+"""What `fit_batch` returns, per curve: the statistics `fit` gives of one curve (`statistics_of`, the
+one place where an optimum becomes intervals and warnings), laid out with a leading curves axis."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ._residuals import Evaluated, stiffness_curve
+from ._statistics import statistics_of
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchResult:
+    """Per curve (leading axis of every array): `values`, `stderr`, `ci95` (dicts by name of arrays;
+    `ci95[name]` has shape (curves, 2)), `correlation` (curves, p, p), `loss` (½ mean r²), `iterations`,
+    `success` (converged, finite, enough valid points, no parameter on a search bound, and some
+    combination of the parameters determined: a curve of pure noise is not a success), `flagged`
+    (valid-point mask is its negation: shape (curves, points)), `determined` (curves, p: whether each
+    Fisher combination is determined), `warnings` (a tuple of strings per curve), `wall_time` (s,
+    compilation included) and `compile_time` (0 where a batch of the same shape was compiled before in this process)."""
+
+    params: tuple[str, ...]
+    values: dict
+    stderr: dict
+    ci95: dict
+    correlation: np.ndarray
+    loss: np.ndarray
+    iterations: np.ndarray
+    success: np.ndarray
+    flagged: np.ndarray
+    determined: np.ndarray
+    warnings: tuple
+    wall_time: float
+    compile_time: float
+
+
+def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
+    """One curve's fit from one start `u0`: optax L-BFGS until the gradient's norm or the loss's relative
+    progress falls below `tol`, or `max_iter` steps."""
+    import optax
+
+    def loss(u):
+        r, _, _ = observed_residuals(stat_of_u(fitted, u), scene, fitted, data)
+        return 0.5 * jnp.mean(r * r)
+
+    optimiser = optax.lbfgs()
+
+    # The line search leaves the value and gradient at its accepted point in the state: the next
+    # step takes them from there. (`optax.value_and_grad_from_state` would do it by a `cond`, which
+    # under `vmap` computes the gradient again on every step.)
+    def body(carry):
+        u, state, value, grad, _, k = carry
+        updates, state = optimiser.update(grad, state, u, value=value, grad=grad, value_fn=loss)
+        new_value = optax.tree_utils.tree_get(state, "value")
+        new_grad = optax.tree_utils.tree_get(state, "grad")
+        return optax.apply_updates(u, updates), state, new_value, new_grad, value, k + 1
+
+    def going(carry):
+        _, _, value, grad, previous, k = carry
+        small = (jnp.linalg.norm(grad) < tol) | (jnp.abs(previous - value) <= tol * jnp.abs(value))
+        return (k < max_iter) & ~((k > 2) & small)
+
+    def run(u0):
+        value, grad = jax.value_and_grad(loss)(u0)
+        with standard_promotion():
+            init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
+            u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
+        return u, value, k
+
+    return run
+
+
+def batch_statistics(fitted, loads, log_stiffness, outcome, max_iter, wall_time, compile_time):
+    """Per curve, `statistics_of` at its optimum `u` (optimiser coordinates) from the program's residuals
+    `r`, valid mask `ok`, statuses and Jacobian `J` (each (curves, points, ...)), L-BFGS's step count `k`
+    and the loss: the values, intervals,
+    correlations, identifiability and warnings `fit` gives; plus the batch's own note of a curve whose
+    L-BFGS did not converge. `outcome` is the program's `(u, loss, k, r, ok, status, J)`."""
+    u, loss, k, r, ok, status, J = outcome
+    p, curves = len(fitted), u.shape[0]
+    names = [q.name for q in fitted]
+    values = {n: np.full(curves, np.nan) for n in names}
+    stderr = {n: np.full(curves, np.nan) for n in names}
+    ci95 = {n: np.full((curves, 2), np.nan) for n in names}
+    correlation = np.full((curves, p, p), np.nan)
+    determined = np.zeros((curves, p), bool)
+    usable = np.zeros(curves, bool)
+    warnings = []
+    for c in range(curves):
+        stat = np.array([q.stat_from_u(x) for q, x in zip(fitted, u[c])])
+        data = stiffness_curve(loads[c], log_stiffness[c])
+        e = Evaluated(r[c].reshape(-1), ok[c].reshape(-1), status[c].reshape(-1), J[c].reshape(-1, p), data.measured.reshape(-1))
+        result = statistics_of(e, fitted, loads[c], data, stat)
+        for n in names:
+            values[n][c], stderr[n][c], ci95[n][c] = result["values"][n], result["stderr"][n], result["ci95"][n]
+        correlation[c] = result["correlation"]
+        determined[c] = [f.determined for f in result["identifiability"]] or False
+        usable[c] = result["usable"] and result["n_used"] > p
+        notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
+        warnings.append(tuple(notes + list(result["warnings"])))
+    success = (k < max_iter) & np.isfinite(loss) & usable
+    return BatchResult(
+        params=tuple(names),
+        values=values,
+        stderr=stderr,
+        ci95=ci95,
+        correlation=correlation,
+        loss=np.asarray(loss, dtype=float),
+        iterations=np.asarray(k),
+        success=success,
+        flagged=~ok.reshape(curves, -1),
+        determined=determined,
+        warnings=tuple(warnings),
+        wall_time=wall_time,
+        compile_time=compile_time,
+    )
+
+
+def without(result: BatchResult, bad: dict[int, str]) -> BatchResult:
+    """`result` with the curves in `bad` unfitted: NaN values and intervals, success False, the reason."""
+    if not bad:
+        return result
+    rows = list(bad)
+    values, stderr, ci95 = ({k: v.copy() for k, v in d.items()} for d in (result.values, result.stderr, result.ci95))
+    for d in (values, stderr, ci95):
+        for v in d.values():
+            v[rows] = np.nan
+    correlation, loss, success = result.correlation.copy(), result.loss.copy(), result.success.copy()
+    correlation[rows], loss[rows], success[rows] = np.nan, np.nan, False
+    flagged, determined = result.flagged.copy(), result.determined.copy()
+    flagged[rows], determined[rows] = True, False
+    warnings = tuple((f"{bad[c]}: the curve was not fitted",) if c in bad else w for c, w in enumerate(result.warnings))
+    return dataclasses.replace(
+        result,
+        values=values,
+        stderr=stderr,
+        ci95=ci95,
+        correlation=correlation,
+        loss=loss,
+        success=success,
+        flagged=flagged,
+        determined=determined,
+        warnings=warnings,
+    )
