@@ -23,8 +23,9 @@ from jaxcontact.core import prepare
 from jaxcontact.numerics import float_array, standard_promotion
 
 from ._batch_result import BatchResult, batch_statistics, without
+from ._observed import observations
 from ._parameters import resolve, stat_of_u
-from ._residuals import Observations, observed_residuals, stiffness_curve
+from ._residuals import Observations, observed_residuals
 
 # Gauss–Newton steps after L-BFGS (each taken only where it lowers the loss): from where L-BFGS's tests
 # stop on the ill-conditioned D–G valley, a few reach the least-squares optimum to round-off.
@@ -73,85 +74,119 @@ def fit_batch(
     scene: jc.Scene,
     params=("D", "G"),
     *,
+    approach=None,
+    reference_load=None,
+    noise: float | dict[str, float] | None = None,
     n_starts: int = 4,
     seed: int = 0,
     max_iter: int = 100,
     tol: float = 1e-10,
     chunk: int = 32,
 ) -> BatchResult:
-    """Fit `params` to many stiffness curves at once, one compiled program for all of them.
+    """Fit `params` to many curves at once, one compiled program for all of them: each curve as `fit`
+    fits it (its observables, their weights and statistics), with optax's L-BFGS.
 
-    **Arguments:** `loads`, `stiffness` (N, N/m; shape (curves, points), all positive); `scene` (what is not
-    fitted, shared by the curves, and one start); `params`; `n_starts` (per curve); `seed` (of the
-    Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the gradient's norm and the
-    loss's relative progress); `chunk` (curves per call of the compiled program: a `vmap`ped loop runs
-    until its slowest lane ends, so one start that needs many steps holds its chunk, not the batch; on
-    an accelerator a larger chunk fills it better).
+    **Arguments:** `loads` (N, shape (curves, points)); `stiffness` (N/m, the same shape; NaN where only
+    the approach was measured; `None` with `approach` alone); `approach` (m, δ(F) − δ(F0), the same
+    shape, NaN where not measured); `reference_load` (the preload F0, N: one for all curves or one per
+    curve; default each curve's smallest load); `noise` (as `fit`'s: σ of ln K, or a dict by observable);
+    `scene` (what is not fitted, shared by the curves, and one start); `params`; `n_starts` (per curve);
+    `seed` (of the Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the
+    gradient's norm and the loss's relative progress); `chunk` (curves per call of the compiled program:
+    a `vmap`ped loop runs until its slowest lane ends, so one start that needs many steps holds its
+    chunk, not the batch; on an accelerator a larger chunk fills it better).
 
-    **Returns:** a `BatchResult`. A curve with a load or stiffness that is not positive and finite is
-    not fitted (NaN values, `success` False, a warning naming the curve and the point); the others are.
+    **Returns:** a `BatchResult`. A curve with a value outside its valid range is not fitted (NaN values,
+    `success` False, a warning naming the curve and the point); the others are.
     """
     from ._fit import starting_points
     from ._statistics import inner_bounds
 
     t0 = time.perf_counter()
     fitted = resolve(params)
-    loads, stiffness = (np.atleast_2d(float_array(k, v)) for k, v in (("loads", loads), ("stiffness", stiffness)))
-    if loads.ndim != 2 or loads.shape[0] == 0:
-        raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
-    if loads.shape != stiffness.shape:
-        raise InputError(f"loads {loads.shape} and stiffness {stiffness.shape} differ in shape (curves, points)")
-    if loads.shape[1] <= len(fitted):
-        raise InputError(f"{loads.shape[1]} points per curve cannot determine {len(fitted)} parameters")
-    bad = _bad_points(loads, stiffness)
-    if len(bad) == loads.shape[0]:
-        raise InputError(f"no curve can be fitted: {bad[0]} (valid range (0, inf))")
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
-    traced, _ = prepare(scene, loads[0])
-    dtype = jnp.result_type(1.0)
-    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
-    u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
+    dtype = jnp.result_type(1.0)
+    loads, data, bad = _curves(loads, stiffness, approach, reference_load, noise, len(fitted), dtype)
+    traced, _ = prepare(scene, loads[0])
+    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
+    u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
     leaves, treedef = jax.tree_util.tree_flatten(traced)
-    # A curve with a bad point is not fitted: a good curve stands in for it (one compiled shape), and
-    # its result is NaN with a warning that names the point.
-    good = next(c for c in range(loads.shape[0]) if c not in bad)
-    stand_in = np.array([good if c in bad else c for c in range(loads.shape[0])])
-    loads, stiffness = loads[stand_in], stiffness[stand_in]
-    curves = loads.shape[0]
+    curves = len(data)
     size = min(chunk, curves)
     # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
-    padded = lambda a: np.concatenate([a, np.repeat(a[:1], -curves % size, axis=0)])  # noqa: E731
-    all_loads, all_log_stiffness = padded(loads), padded(np.log(stiffness))
+    stacked = data + [data[0]] * (-curves % size)
     outputs, compile_time = [], 0.0
-    for start in range(0, all_loads.shape[0], size):
-        part = slice(start, start + size)
-        args = (leaves, jnp.asarray(all_loads[part], dtype), jnp.asarray(all_log_stiffness[part], dtype), u0s)
-        key = (treedef, fitted, max_iter, tol, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+    for start in range(0, len(stacked), size):
+        part = jax.tree.map(lambda *x: jnp.stack(x), *stacked[start : start + size])
+        args = (leaves, part, u0s)
+        key = (treedef, fitted, max_iter, tol, jax.tree_util.tree_structure(part))
+        key += (tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)),)
         if key not in _PROGRAMS:
             t1 = time.perf_counter()
             _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
             compile_time += time.perf_counter() - t1
         outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
-    u, loss, k, r, ok, status, J = (np.concatenate(parts)[:curves] for parts in zip(*outputs))
+    outcome = tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs))
     wall_time = time.perf_counter() - t0
-    log_stiffness = np.log(stiffness)
-    outcome = (u, loss, k, r, ok, status, J)
-    result = batch_statistics(fitted, loads, log_stiffness, outcome, max_iter, wall_time, compile_time)
+    result = batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time)
     return without(result, bad)
 
 
-def _bad_points(loads, stiffness) -> dict[int, str]:
-    """By curve, the first point whose load or stiffness is not positive and finite, described."""
+def _curves(loads, stiffness, approach, reference_load, noise, p: int, dtype):
+    """`(loads, data, bad)`: the loads (curves, points), each curve's `Observations` (a good curve's
+    standing in for a curve that cannot be fitted: one compiled shape) and, by curve, why it cannot."""
+    loads = np.atleast_2d(float_array("loads", loads))
+    if loads.ndim != 2 or loads.shape[0] == 0:
+        raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
+    if loads.shape[1] <= p:
+        raise InputError(f"{loads.shape[1]} points per curve cannot determine {p} parameters")
+    given = {k: v for k, v in (("stiffness", stiffness), ("approach", approach)) if v is not None}
+    if not given:
+        raise InputError("stiffness = None and approach = None: give at least one measured curve per load")
+    given = {k: np.atleast_2d(float_array(k, v)) for k, v in given.items()}
+    for name, values in given.items():
+        if values.shape != loads.shape:
+            raise InputError(f"loads {loads.shape} and {name} {values.shape} differ in shape (curves, points)")
+    references = np.broadcast_to(
+        np.nan if reference_load is None else float_array("reference_load", reference_load), loads.shape[:1]
+    )
+    bad, data = _bad_points(loads, given), {}
+    for c in range(loads.shape[0]):
+        if c in bad:
+            continue
+        try:
+            reference = None if np.isnan(references[c]) else float(references[c])
+            curve = {k: v[c] for k, v in given.items()}
+            data[c], _, _ = observations(
+                loads[c], curve.get("stiffness"), curve.get("approach"), reference, noise, dtype, 1
+            )
+        except InputError as exc:
+            bad[c] = f"curve {c}: {exc}"
+    if not data:
+        raise InputError(f"no curve can be fitted: {bad[0]}")
+    good = next(iter(data.values()))
+    return loads, [data.get(c, good) for c in range(loads.shape[0])], bad
+
+
+def _bad_points(loads, given: dict) -> dict[int, str]:
+    """By curve, the first point whose load, stiffness or approach is outside its valid range, described
+    (a stiffness may be NaN where an approach is given; an approach NaN where not measured)."""
+    checks = {
+        "loads": lambda v: np.isfinite(v) & (v > 0),
+        "stiffness": lambda v: (np.isfinite(v) & (v > 0)) | (np.isnan(v) & ("approach" in given)),
+        "approach": lambda v: ~np.isinf(v),
+    }
     bad = {}
     for c in range(loads.shape[0]):
-        for name, values in (("loads", loads[c]), ("stiffness", stiffness[c])):
-            wrong = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+        for name, values in (("loads", loads[c]), *((k, v[c]) for k, v in given.items())):
+            wrong = np.flatnonzero(~checks[name](values))
             if wrong.size and c not in bad:
                 i = int(wrong[0])
-                bad[c] = f"curve {c}, point {i}: {name} = {float(values[i])!r} is not positive and finite"
+                valid = "finite (m) or NaN" if name == "approach" else "positive and finite"
+                bad[c] = f"curve {c}, point {i}: {name} = {float(values[i])!r} is not {valid}"
     return bad
 
 
@@ -196,19 +231,21 @@ def _polished(scene, fitted, data: Observations, u):
 
 
 def _program(treedef, fitted, max_iter: int, tol: float):
-    """(scene leaves, loads, ln K, starts) ↦ vmap over curves of (vmap over starts of the solver, the
-    best start polished, its loss, steps, residuals, valid mask, statuses and Jacobian)."""
+    """(scene leaves, each curve's `Observations` stacked, starts) ↦ vmap over curves of (vmap over
+    starts of the solver, the best start polished, its loss, steps, residuals, valid mask, statuses and
+    Jacobian)."""
 
-    def one_curve(scene, loads, log_stiffness, u0s):
-        data = stiffness_curve(loads, log_stiffness)
+    def one_curve(scene, data, u0s):
         run = _solver(scene, fitted, data, max_iter, tol)
         us, losses, ks = jax.vmap(run)(u0s)
         best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
         u, loss, r, ok, status, J = _polished(scene, fitted, data, us[best])
-        return u, loss, ks[best], r, ok, status, J
+        # Every start's end, the best one polished: where the others ended says whether a distinct
+        # optimum fits almost as well (`rival_optima`).
+        return u, loss, ks[best], r, ok, status, J, us.at[best].set(u), losses.at[best].set(loss)
 
-    def batch(leaves, loads, log_stiffness, u0s):
+    def batch(leaves, data, u0s):
         scene = jax.tree_util.tree_unflatten(treedef, leaves)
-        return jax.vmap(one_curve, in_axes=(None, 0, 0, None))(scene, loads, log_stiffness, u0s)
+        return jax.vmap(one_curve, in_axes=(None, 0, None))(scene, data, u0s)
 
     return batch

@@ -7,8 +7,8 @@ import dataclasses
 
 import numpy as np
 
-from ._residuals import Evaluated, stiffness_curve
-from ._statistics import statistics_of
+from ._residuals import Evaluated
+from ._statistics import rival_optima, statistics_of
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,49 +36,14 @@ class BatchResult:
     compile_time: float
 
 
-def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
-    """One curve's fit from one start `u0`: optax L-BFGS until the gradient's norm or the loss's relative
-    progress falls below `tol`, or `max_iter` steps."""
-    import optax
-
-    def loss(u):
-        r, _, _ = observed_residuals(stat_of_u(fitted, u), scene, fitted, data)
-        return 0.5 * jnp.mean(r * r)
-
-    optimiser = optax.lbfgs()
-
-    # The line search leaves the value and gradient at its accepted point in the state: the next
-    # step takes them from there. (`optax.value_and_grad_from_state` would do it by a `cond`, which
-    # under `vmap` computes the gradient again on every step.)
-    def body(carry):
-        u, state, value, grad, _, k = carry
-        updates, state = optimiser.update(grad, state, u, value=value, grad=grad, value_fn=loss)
-        new_value = optax.tree_utils.tree_get(state, "value")
-        new_grad = optax.tree_utils.tree_get(state, "grad")
-        return optax.apply_updates(u, updates), state, new_value, new_grad, value, k + 1
-
-    def going(carry):
-        _, _, value, grad, previous, k = carry
-        small = (jnp.linalg.norm(grad) < tol) | (jnp.abs(previous - value) <= tol * jnp.abs(value))
-        return (k < max_iter) & ~((k > 2) & small)
-
-    def run(u0):
-        value, grad = jax.value_and_grad(loss)(u0)
-        with standard_promotion():
-            init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
-            u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
-        return u, value, k
-
-    return run
-
-
-def batch_statistics(fitted, loads, log_stiffness, outcome, max_iter, wall_time, compile_time):
-    """Per curve, `statistics_of` at its optimum `u` (optimiser coordinates) from the program's residuals
-    `r`, valid mask `ok`, statuses and Jacobian `J` (each (curves, points, ...)), L-BFGS's step count `k`
-    and the loss: the values, intervals,
+def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time):
+    """Per curve (`data`: each one's `Observations`), `statistics_of` at its optimum `u` (optimiser
+    coordinates) from the program's residuals `r`, valid mask `ok`, statuses and Jacobian `J` (each
+    (curves, points, ...)), with L-BFGS's step count `k` and the loss: the values, intervals,
     correlations, identifiability and warnings `fit` gives; plus the batch's own note of a curve whose
-    L-BFGS did not converge. `outcome` is the program's `(u, loss, k, r, ok, status, J)`."""
-    u, loss, k, r, ok, status, J = outcome
+    L-BFGS did not converge. `outcome` is the program's `(u, loss, k, r, ok, status, J, us, losses)`,
+    the last two every start's end and loss (½ mean r² over every entry, measured or not)."""
+    u, loss, k, r, ok, status, J, us, losses = outcome
     p, curves = len(fitted), u.shape[0]
     names = [q.name for q in fitted]
     values = {n: np.full(curves, np.nan) for n in names}
@@ -90,16 +55,23 @@ def batch_statistics(fitted, loads, log_stiffness, outcome, max_iter, wall_time,
     warnings = []
     for c in range(curves):
         stat = np.array([q.stat_from_u(x) for q, x in zip(fitted, u[c])])
-        data = stiffness_curve(loads[c], log_stiffness[c])
-        e = Evaluated(r[c].reshape(-1), ok[c].reshape(-1), status[c].reshape(-1), J[c].reshape(-1, p), data.measured.reshape(-1))
-        result = statistics_of(e, fitted, loads[c], data, stat)
+        e = Evaluated(
+            r[c].reshape(-1),
+            ok[c].reshape(-1),
+            status[c].reshape(-1),
+            J[c].reshape(-1, p),
+            data[c].measured.reshape(-1),
+        )
+        result = statistics_of(e, fitted, loads[c], data[c], stat)
         for n in names:
             values[n][c], stderr[n][c], ci95[n][c] = result["values"][n], result["stderr"][n], result["ci95"][n]
         correlation[c] = result["correlation"]
         determined[c] = [f.determined for f in result["identifiability"]] or False
         usable[c] = result["usable"] and result["n_used"] > p
         notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
-        warnings.append(tuple(notes + list(result["warnings"])))
+        best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
+        rivals = rival_optima(fitted, us[c], best, result, losses[c], r[c].size, result["s2"])
+        warnings.append(tuple(notes + list(result["warnings"]) + rivals))
     success = (k < max_iter) & np.isfinite(loss) & usable
     return BatchResult(
         params=tuple(names),
