@@ -221,7 +221,11 @@ def _polished(scene, fitted, data: Observations, u):
         # ∂stat/∂u, one coordinate at a time (the map is elementwise): J in optimiser coordinates.
         slope = jax.jvp(lambda x: stat_of_u(fitted, x), (best_u,), (jnp.ones_like(best_u),))[1]
         J_u = jnp.where(used[:, None], J_best.reshape(r.size, -1) * slope[None, :], 0.0)
-        delta = jnp.linalg.lstsq(J_u, -jnp.where(used, r_best.reshape(-1), 0.0))[0]
+        # The normal equations of a few parameters, nudged off singular (a step that does not lower
+        # the loss is not kept).
+        JTJ = J_u.T @ J_u
+        nudge = 1e-12 * jnp.trace(JTJ) * jnp.eye(JTJ.shape[0], dtype=JTJ.dtype)
+        delta = jnp.linalg.solve(JTJ + nudge, -J_u.T @ jnp.where(used, r_best.reshape(-1), 0.0))
         return best_u + jnp.where(jnp.isfinite(delta), delta, 0.0), best_u, best
 
     shapes = jax.eval_shape(evaluate, u)
