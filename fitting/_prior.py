@@ -18,7 +18,7 @@ import numpy as np
 
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
-from jaxcontact.topography import Characterisation
+from jaxcontact.topography import AbstractMeasurementKind, Characterisation
 
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
@@ -40,7 +40,7 @@ class GaussianPrior:
     mean: np.ndarray
     covariance: np.ndarray
     source: str
-    kind: str | None = None
+    kind: AbstractMeasurementKind | None = None
     log_q: float = 0.0
     start: np.ndarray | None = None
 

@@ -7,18 +7,14 @@ thin ridge where the true one bends: with D uncertain by ±0.3 (a small map) its
 stiffness curve's ridge at a point far from the truth, with a confident, wrong posterior. The prior
 is therefore stated in the fit's own coordinates, decorrelated: the slope, and `ln C` at the
 wavevector where its error is independent of the slope's (`q_ref`), each a smooth function of
-(D, ln G) (`topography.spectral_slope`, `topography.log_prefactor`), and the Laplace covariance
+(D, ln G) (the measurement kind's `spectral_slope` and `log_prefactor`), and the Laplace covariance
 linearises it at the optimum.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from scipy import special
-
-from jaxcontact.topography import log_prefactor, spectral_slope
 
 
 def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:
@@ -30,15 +26,14 @@ def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:
     return np.array([slope, intercept + slope * log_q]), to_ref @ covariance @ to_ref.T, float(log_q)
 
 
-def spectral_coordinates(kind: str, log_q: float, D, log_G, gammaln=special.gammaln):
-    """(slope, ln C(q_ref)) of the W-M surface (D, ln G): `gammaln` from scipy, or from JAX in a traced density."""
-    slope = spectral_slope(kind, D)
-    return slope, log_prefactor(kind, D, log_G, gammaln) + slope * log_q
+def spectral_coordinates(kind, log_q: float, D, log_G, gammaln=special.gammaln):
+    """(slope, ln C(q_ref)) of the W-M surface (D, ln G) in the spectrum of `kind` (a
+    `topography.AbstractMeasurementKind`): `gammaln` from scipy, or from JAX in a traced density."""
+    slope = kind.spectral_slope(D)
+    return slope, kind.log_prefactor(D, log_G, gammaln) + slope * log_q
 
 
-def spectral_jacobian(kind: str, log_q: float, D: float, log_G: float) -> np.ndarray:
+def spectral_jacobian(kind, log_q: float, D: float, log_G: float) -> np.ndarray:
     """∂(slope, ln C(q_ref)) / ∂(D, ln G)."""
-    d_intercept = 2 * log_G - 2 * math.log(2 * math.pi)
-    if kind != "profile":
-        d_intercept += -special.digamma(3 - D) + special.digamma(2.5 - D)
+    d_intercept = kind.d_log_prefactor_dD(D, log_G)
     return np.array([[2.0, 0.0], [d_intercept + 2.0 * log_q, 2.0 * (D - 1.0)]])

@@ -142,7 +142,7 @@ def _surface(D, G, covariance):
         spectrum=empty,
         fit=empty,
         diagnostics=(),
-        kind="areal",
+        kind=tp.Areal(),
         reliability_cutoff=None,
     )
 
@@ -185,7 +185,7 @@ def characterised_map():
 
 def test_a_topography_prior_lives_in_its_spectrums_coordinates(characterised_map):
     prior, _ = resolve_prior(characterised_map, D_AND_G)
-    assert prior.kind == "areal"
+    assert prior.kind == tp.Areal()
 
 
 def test_the_spectral_prior_linearised_at_the_estimate_is_the_characterisations_covariance(characterised_map):

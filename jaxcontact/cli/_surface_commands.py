@@ -90,7 +90,7 @@ def describe(c) -> dict:
     """The JSON record of a characterisation: values, conventions named, intervals, diagnostics."""
     return {
         "method": c.method,
-        "kind": c.kind,
+        "kind": c.kind.name,
         "D": c.D,
         "G_wm_m": c.G,
         "G_structure_function_m": c.G_structure_function,
@@ -112,12 +112,12 @@ def summary_text(c, name: str) -> str:
     source = (
         f"{c.groups} measurements' spectra joined"
         if c.method == "psd" and c.groups > 1
-        else f"the whole {'map' if c.kind == 'areal' else 'profile'}'s spectrum"
+        else f"the whole {c.kind.noun}'s spectrum"
         if c.method == "psd"
-        else f"{c.groups} independent {'tiles' if c.kind == 'areal' else 'segments'}"
+        else f"{c.groups} independent {c.kind.groups_noun}"
     )
     lines = [
-        f"{name}: {c.kind} topography, {c.method} over wavelengths {c.band[0]:.4g}-{c.band[1]:.4g} m ({source})",
+        f"{name}: {c.kind.name} topography, {c.method} over wavelengths {c.band[0]:.4g}-{c.band[1]:.4g} m ({source})",
         *(f"  band's {end} end: {why}" for end, why in zip(("long", "short"), c.ends) if why),
         f"  D     = {c.D:.4f} ± {c.stderr['D']:.4f}   95 % [{c.ci95['D'][0]:.4f}, {c.ci95['D'][1]:.4f}]",
         f"  G     = {c.G:.4g} m (W-M convention, the model's) ×/÷ {math.exp(min(c.stderr['G'] / c.G, 700)):.3g}   "
@@ -153,10 +153,6 @@ def _spectrum_figure(c, ylabel, xlabel, path):
     return save_figure(fig, path)
 
 
-def _psd_label(kind: str) -> str:
-    return "C2D (m⁴)" if kind == "areal" else "C1D (m³)"
-
-
 def cmd_surface(args) -> int:
     from ..numerics import InputError
     from ..topography import NoBandError, characterise, compared
@@ -171,11 +167,9 @@ def cmd_surface(args) -> int:
     try:
         topography, c = characterise_file(args)
     except NoBandError as exc:
-        kind = exc.spectrum.kind
         spectrum = (exc.spectrum.q, exc.spectrum.C)
-        path = psd_figure(
-            spectrum, exc.local_slope, out / "psd.png", ylabel=_psd_label(kind), suggestion=exc.suggestion
-        )
+        label = exc.spectrum.kind.psd_label
+        path = psd_figure(spectrum, exc.local_slope, out / "psd.png", ylabel=label, suggestion=exc.suggestion)
         raise InputError(f"{exc}; wrote {path}") from None
     name = pathlib.Path(args.file[0]).name
     files = [
@@ -183,7 +177,7 @@ def cmd_surface(args) -> int:
             c.spectrum,
             c.local_slope,
             out / "psd.png",
-            ylabel=_psd_label(c.kind),
+            ylabel=c.kind.psd_label,
             fit=c.fit,
             D=c.D,
             band=c.band,
@@ -199,7 +193,7 @@ def cmd_surface(args) -> int:
         sf = None
         notes.append(f"structure function: {exc}")
     scene_path = out / "surface.toml"
-    title = re.sub(r'["\\]', "", f"{name} ({c.kind}, {c.method} fit)")
+    title = re.sub(r'["\\]', "", f"{name} ({c.kind.name}, {c.method} fit)")
     scene_path.write_text(scene_text(c, title))
     files.append(str(scene_path))
     text = summary_text(c, name)
@@ -279,7 +273,7 @@ def psd_figure_stitched(c, path) -> str:
         c.spectrum,
         (c.spectrum[0], c.spectrum[0] * float("nan")),
         path,
-        ylabel=_psd_label(c.kind),
+        ylabel=c.kind.psd_label,
         fit=c.fit,
         D=c.D,
         band=c.band,

@@ -9,11 +9,10 @@ from ._conventions import (
     CONVENTIONS,
     areal_prefactor,
     convert_G,
-    log_prefactor,
     profile_prefactor,
-    spectral_slope,
     structure_function_constant,
 )
+from ._kind import AbstractKind, AbstractMeasurementKind, Areal, Profile, Stitched
 from ._psd import NoBandError
 from ._read import read
 from ._result import Characterisation
@@ -23,6 +22,11 @@ from ._uncertainty import StiffnessBand, stiffness_band
 
 __all__ = [
     "CONVENTIONS",
+    "AbstractKind",
+    "AbstractMeasurementKind",
+    "Areal",
+    "Profile",
+    "Stitched",
     "METHODS",
     "Characterisation",
     "NoBandError",
@@ -33,11 +37,9 @@ __all__ = [
     "characterise",
     "characterise_stitched",
     "convert_G",
-    "log_prefactor",
     "profile_prefactor",
     "random_profile",
     "read",
-    "spectral_slope",
     "stiffness_band",
     "structure_function_constant",
     "wm_profile",

@@ -11,6 +11,7 @@ from ..numerics._validate import InputError, assigned, check_choice, spelled
 from . import _spectra as spectra
 from ._checks import implausible, widened_for_filling
 from ._conventions import structure_function_constant
+from ._kind import AbstractMeasurementKind
 from ._psd import characterise_spectrum
 from ._result import Characterisation
 
@@ -50,17 +51,16 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     check_choice("method", method, METHODS)
     rows, dx, length, periodic, kind = spectra.rows_of(topography)
     if not np.ptp(rows) > 0:
-        what = "map" if kind == "areal" else "profile"
-        raise InputError(f"the {what} is flat: every height is the same, so it has no roughness to characterise")
+        raise InputError(f"the {kind.noun} is flat: every height is the same, so it has no roughness to characterise")
     if groups is not None and (isinstance(groups, bool) or not isinstance(groups, int) or groups < 3):
         raise InputError(f"{assigned('groups', repr(groups))} must be an integer >= 3 (independent groups)")
     if method == "psd":
         band = None if band is None else _checked_band(band, dx, length, kind, rows.shape[1])
-        heights = rows[0] if kind == "profile" else rows.T
+        heights = kind.heights(rows)
         cutoff = topography.short_reliability_cutoff()
         c = characterise_spectrum(topography, heights, dx, periodic, kind, band, D, cutoff)
         return dataclasses.replace(c, diagnostics=c.diagnostics + implausible(float(np.std(rows)), c))
-    blocks = spectra.groups_of(rows, groups, kind)
+    blocks = kind.groups(rows, groups)
     periodic = periodic and len(blocks) == 1
     if len(blocks) < 3:
         raise InputError(f"{assigned('groups', str(len(blocks)))}: at least 3 independent groups are needed")
@@ -71,7 +71,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         longest = min(max(LONGEST_FRACTION * segment, 4 * shortest), WIDEST_FRACTION * segment)
         if longest < 4 * shortest:
             raise InputError(
-                f"the {'profile' if kind == 'profile' else 'map'} is too small for any power-law band: "
+                f"the {kind.noun} is too small for any power-law band: "
                 f"{rows.shape[1]} points over {length:.3g} m leave wavelengths {shortest:.3g}-{longest:.3g} m "
                 "to fit (a factor 4 at least is needed; "
                 f"{spelled('fewer groups', 'a smaller --groups')} give longer segments)"
@@ -142,7 +142,7 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     )
 
 
-def _checked_band(band, dx: float, longest: float, kind: str, points: int) -> tuple[float, float]:
+def _checked_band(band, dx: float, longest: float, kind: AbstractMeasurementKind, points: int) -> tuple[float, float]:
     """`band` as two floats, after checking it is inside the data (`2 dx` to `longest`) and spans a factor 4."""
     band = tuple(float(b) for b in band)
     if len(band) != 2 or not (0 < band[0] < band[1]):
@@ -150,12 +150,12 @@ def _checked_band(band, dx: float, longest: float, kind: str, points: int) -> tu
     if band[0] < 2 * dx or band[1] > longest:
         raise InputError(
             f"{_band(band)} is outside the data: wavelengths must lie in "
-            f"[{2 * dx:.3g}, {longest:.3g}] m (two grid spacings to one {'segment' if kind == 'profile' else 'scan'})"
+            f"[{2 * dx:.3g}, {longest:.3g}] m (two grid spacings to one {kind.piece})"
         )
     if band[1] / band[0] < 4:
         raise InputError(
             f"{_band(band)} spans less than a factor 4 in wavelength: the "
-            f"{kind} is too short for any power-law band ({points} points)"
+            f"{kind.noun} is too short for any power-law band ({points} points)"
         )
     return band
 

@@ -65,25 +65,6 @@ def log_G_from_profile_prefactor(D, log_K1):
     return (log_K1 + math.log(4 * math.log(GAMMA)) - (5 - 2 * D) * math.log(2 * math.pi)) / (2 * (D - 1))
 
 
-def spectral_slope(kind: str, D):
-    """The log-log slope of the W-M spectrum: `-(6 - 2D)` for a map's `C2D`, `-(5 - 2D)` for a profile's `C1D`."""
-    return -((6.0 if kind == "areal" else 5.0) - 2.0 * D)
-
-
-def log_prefactor(kind: str, D: float, log_G: float, gammaln=special.gammaln) -> float:
-    """ln K1 of `C1D = K1 q^-(5-2D)` (profile) or ln C0 of `C2D = C0 q^-(6-2D)` (areal) for the W-M ln G;
-    linear in ln G, with slope 2 (D - 1). `gammaln` may be JAX's, for a traced D."""
-    log_K1 = 2 * (D - 1) * log_G + (5 - 2 * D) * math.log(2 * math.pi) - math.log(4 * math.log(GAMMA))
-    if kind == "profile":
-        return log_K1
-    return log_K1 + math.log(2 * math.sqrt(math.pi)) + gammaln(3 - D) - gammaln(2.5 - D)
-
-
-def log_G_of_prefactor(kind: str, D: float, log_prefactor_: float) -> float:
-    """ln G (W-M) from the spectrum's ln prefactor: the inverse of `log_prefactor` at fixed D."""
-    return (log_prefactor_ - log_prefactor(kind, D, 0.0)) / (2 * (D - 1))
-
-
 def areal_prefactor(D, G):
     """`C0` of the isotropic `C2D(q) = C0 q^-(6-2D)` whose line scans have `C1D = K1 q^-(5-2D)`."""
     return profile_prefactor(D, G) * 2 * math.sqrt(math.pi) * special.gamma(3 - D) / special.gamma(2.5 - D)

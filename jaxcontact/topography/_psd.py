@@ -10,7 +10,6 @@ import numpy as np
 from ..numerics._validate import InputError, spelled
 from ._band import MIN_MODES, MIN_RATIO, fit_band, select_band
 from ._checks import widened_for_filling
-from ._conventions import log_G_of_prefactor
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
 
@@ -26,7 +25,7 @@ class NoBandError(InputError):
 
 def _D_logG(spectrum, slope: float, intercept: float):
     D = float(spectrum.D_of(slope))
-    return D, (log_G_of_prefactor(spectrum.kind, D, intercept) if 1 < D < 2 else math.nan)
+    return D, (spectrum.kind.log_G_of_prefactor(D, intercept) if 1 < D < 2 else math.nan)
 
 
 def _covariance(spectrum, law) -> np.ndarray:
@@ -69,7 +68,7 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
     usable = spectrum.q[spectrum.modes >= MIN_MODES]
     if usable.size < 5 or usable[-1] / usable[0] < MIN_RATIO:
         raise InputError(
-            f"the {kind} is too small for any power-law band: {heights.shape[-1]} points a side leave too few "
+            f"the {kind.noun} is too small for any power-law band: {heights.shape[-1]} points a side leave too few "
             f"Fourier modes (at least {MIN_MODES} per bin over a factor {MIN_RATIO:g} in wavelength are needed)"
         )
     if band is None:
@@ -77,7 +76,7 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
         if not hasattr(law, "slope"):
             slopes = _q_and_D(local_slopes(spectrum))
             raise NoBandError(
-                f"no power-law band: no window of the {kind} spectrum spanning a factor 4 is a power law within "
+                f"no power-law band: no window of the {kind.noun}'s spectrum spanning a factor 4 is a power law within "
                 f"its scatter with 1 < D < 2; {_suggestion(spectrum, law)} (psd.png shows the local slope)",
                 spectrum,
                 slopes,

@@ -9,7 +9,8 @@ import numpy as np
 from scipy import stats
 
 from ..quantities import Surface
-from ._conventions import convert_G, log_prefactor, spectral_slope
+from ._conventions import convert_G
+from ._kind import AbstractKind
 
 
 @dataclasses.dataclass(frozen=True)
@@ -18,19 +19,19 @@ class Characterisation:
 
     **Fields:** `D`; `G` (W-M, the model's); `G_structure_function` (the same surface's G in the
     structure-function convention of docs/model.md §8); `l_min` (the band's short end); `band` (short,
-    long wavelength of the fit, m); `method`; `stderr` and `ci95` (dicts for D and G, Student-t
-    over the groups; G's interval is exp(ln G ± t·se)); `covariance` of (D, ln G) and their
-    `correlation`; `groups` (independent groups of line scans or segments whose scatter gave the
-    covariance; 1 where it came from the whole spectrum's own scatter) and `estimates` (their
-    (D, ln G)); `dof` (the covariance's degrees of freedom, for the Student-t and F quantiles);
-    `spectrum` (x, y: `q` and the binned `C2D` of a map or `C1D` of a profile, or `τ` and `S(τ)`);
-    `fit` (x, y of the fitted power law over the band); `diagnostics` (why D may not mean much;
-    empty if none); `kind` ("profile" or "areal"); `reliability_cutoff` (m, from the tip radius, or
-    None); `ends` (why the band's long and short end lie where they do); `rolloff` (σ in m of a
+    long wavelength of the fit, m); `method`; `stderr` and `ci95` (dicts for D and G, Student-t over the
+    groups; G's interval is exp(ln G ± t·se)); `covariance` of (D, ln G) and their `correlation`;
+    `groups` (independent groups of line scans or segments whose scatter gave the covariance; 1 where it
+    came from the whole spectrum's own scatter) and `estimates` (their (D, ln G)); `dof` (the
+    covariance's degrees of freedom, for the Student-t and F quantiles); `spectrum` (x, y: `q` and the
+    binned `C2D` of a map or `C1D` of a profile, or `τ` and `S(τ)`); `fit` (x, y of the fitted power law
+    over the band); `diagnostics` (why D may not mean much; empty if none); `kind` (`Profile()`,
+    `Areal()`, or `Stitched()` for several measurements); `reliability_cutoff` (m, from the tip radius,
+    or None); `ends` (why the band's long and short end lie where they do); `rolloff` (σ in m of a
     Gaussian transfer function `exp(-(qσ)²)` corrected in the band, or None); `floor` (a white noise
-    level of the spectrum subtracted, or 0); `local_slope` (q and the local D along the spectrum,
-    for the plot, or None); `power_law` (the fitted `ln C = intercept + slope ln q` as (slope,
-    intercept, their covariance), where the region of `covers` is formed, or None).
+    level of the spectrum subtracted, or 0); `local_slope` (q and the local D along the spectrum, for
+    the plot, or None); `power_law` (the fitted `ln C = intercept + slope ln q` as (slope, intercept,
+    their covariance), where the region of `covers` is formed, or None).
     """
 
     D: float
@@ -48,7 +49,7 @@ class Characterisation:
     spectrum: tuple[np.ndarray, np.ndarray]
     fit: tuple[np.ndarray, np.ndarray]
     diagnostics: tuple[str, ...]
-    kind: str
+    kind: AbstractKind
     reliability_cutoff: float | None
     dof: int = 0
     ends: tuple[str, str] = ("", "")
@@ -94,7 +95,7 @@ class Characterisation:
             # map of them (ln G ∝ 1/(D - 1)), which a linearised ellipse misdescribes far from D.
             slope, intercept, covariance = self.power_law
             difference = np.array(
-                [spectral_slope(self.kind, D) - slope, log_prefactor(self.kind, D, math.log(G)) - intercept]
+                [self.kind.spectral_slope(D) - slope, self.kind.log_prefactor(D, math.log(G)) - intercept]
             )
         else:
             covariance = self.covariance
@@ -107,7 +108,7 @@ class Characterisation:
         lo, hi = self.ci95["D"]
         glo, ghi = self.ci95["G"]
         return (
-            f"[surface]\n# from the {self.method} of a {self.kind} topography, fitted over wavelengths "
+            f"[surface]\n# from the {self.method} of a {self.kind.name} topography, fitted over wavelengths "
             f"{self.band[0]:.4g}-{self.band[1]:.4g} m\n"
             f"D = {self.D:.6g}  # 95 % interval [{lo:.6g}, {hi:.6g}]\n"
             f"G = {self.G:.6g}  # m, W-M convention (structure-function convention: "

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._kind import Areal, Profile
+
 DETREND_DEGREE = 3
 
 
@@ -100,18 +102,8 @@ def rows_of(topography):
     heights = np.asarray(topography.heights(), dtype=float)
     length = float(np.atleast_1d(topography.physical_sizes)[0])
     if heights.ndim == 1:
-        return heights[None, :], length / heights.size, length, bool(topography.is_periodic), "profile"
-    return heights.T, length / heights.shape[0], length, bool(topography.is_periodic), "areal"
-
-
-def groups_of(rows, groups: int | None, kind: str):
-    """Independent groups for the structure function: blocks of whole line scans of an areal map (its
-    short lags do not reach across a block), or segments of a profile."""
-    if kind == "areal":
-        return np.array_split(rows, min(groups or 16, rows.shape[0]), axis=0)
-    count = groups or 8
-    usable = rows.shape[1] - rows.shape[1] % count
-    return list(rows[:, :usable].reshape(count, -1)[:, None, :])
+        return heights[None, :], length / heights.size, length, bool(topography.is_periodic), Profile()
+    return heights.T, length / heights.shape[0], length, bool(topography.is_periodic), Areal()
 
 
 def binned_structure_function(blocks, dx, band):

@@ -12,7 +12,7 @@ from scipy import optimize
 from ..numerics._validate import InputError, spelled
 from . import _spectra as spectra
 from ._band import CALIBRATION, select_band
-from ._conventions import log_G_of_prefactor, log_prefactor, spectral_slope
+from ._kind import Stitched
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
@@ -24,7 +24,7 @@ MISMATCH = 3.0
 
 def _measured(topography, index: int):
     rows, dx, _, periodic, kind = spectra.rows_of(topography)
-    spectrum = whole_spectrum(rows[0] if kind == "profile" else rows.T, dx, periodic)
+    spectrum = whole_spectrum(kind.heights(rows), dx, periodic)
     cutoff = topography.short_reliability_cutoff()
     law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff)
     if not hasattr(law, "slope"):
@@ -58,7 +58,7 @@ def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Cha
     **Arguments:** `topographies`, two or more SurfaceTopography line scans or maps in metres, each a
     different measurement; `accept_mismatch`, return the joint fit even where the measurements do not
     join into one power law (χ²/ν > 3; then a diagnostic says so) instead of refusing them.
-    **Returns:** a `Characterisation` (method "psd", kind "stitched" where kinds differ).
+    **Returns:** a `Characterisation` (method "psd", kind `Stitched()` where kinds differ).
 
     **Raises:** `ValueError` for fewer than two measurements, a measurement given twice, and (unless
     `accept_mismatch`) measurements that do not join: their height scales, lateral calibrations or
@@ -75,7 +75,7 @@ def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Cha
         D, log_G = theta
         out = []
         for m, (kind, q, y, w) in enumerate(points):
-            model = log_prefactor(kind, D, log_G) + spectral_slope(kind, D) * np.log(q)
+            model = kind.log_prefactor(D, log_G) + kind.spectral_slope(D) * np.log(q)
             # The band's own systematic, as for one measurement: its short end moved in by a factor 2.
             kept = q <= q[-1] / 2 if m == trimmed else np.ones(q.size, bool)
             out.append(np.sqrt(w) * (y + (0.0 if shifts is None else shifts[m]) - model) * kept)
@@ -83,7 +83,7 @@ def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Cha
 
     first_kind, first_spectrum, first = measured[0]
     D0 = float(np.clip(first_spectrum.D_of(first.slope), 1.05, 1.95))
-    start = [D0, log_G_of_prefactor(first_kind, D0, first.intercept)]
+    start = [D0, first_kind.log_G_of_prefactor(D0, first.intercept)]
     bounds = ([1.0 + 1e-6, -np.inf], [2.0 - 1e-6, np.inf])
     fit = optimize.least_squares(residuals, start, bounds=bounds, x_scale=[0.1, 1.0])
     D_hat, log_G_hat = fit.x
@@ -119,7 +119,7 @@ def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Cha
     q_all = np.concatenate([q for _, q, _, _ in points])
     C_all = np.exp(np.concatenate([y for _, _, y, _ in points]))
     fit_q = np.geomspace(q_all.min(), q_all.max(), 50)
-    fit_C = np.exp(log_prefactor(first_kind, D_hat, log_G_hat) + spectral_slope(first_kind, D_hat) * np.log(fit_q))
+    fit_C = np.exp(first_kind.log_prefactor(D_hat, log_G_hat) + first_kind.spectral_slope(D_hat) * np.log(fit_q))
     return Characterisation.fitted(
         "psd",
         float(D_hat),
@@ -132,7 +132,7 @@ def characterise_stitched(topographies, *, accept_mismatch: bool = False) -> Cha
         spectrum=(q_all, C_all),
         fit=(fit_q, fit_C),
         diagnostics=diagnostics,
-        kind=kinds[0] if len(set(kinds)) == 1 else "stitched",
+        kind=kinds[0] if len(set(kinds)) == 1 else Stitched(),
         reliability_cutoff=None,
         ends=(
             "the longest band's long end among the measurements",

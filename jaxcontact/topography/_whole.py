@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from ._conventions import spectral_slope
+from ._kind import AbstractMeasurementKind, Areal, Profile
 from ._spectra import DETREND_DEGREE
 
 BINS_PER_DECADE = 20
@@ -30,7 +30,7 @@ class Spectrum:
     """A binned spectrum: `q` (rad/m, the bins' geometric means), `C` (mean periodogram, m⁴ areal
     or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (per bin, the variance of one
     mode's periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
-    measurement of a Gaussian surface); `kind` ("areal" or "profile"); `spacing` (m); `q_squared` (the
+    measurement of a Gaussian surface); `kind` (`Areal()` or `Profile()`); `spacing` (m); `q_squared` (the
     bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q);
     `q_squared_cumulants` (the 2nd to 4th cumulants of q² over each bin's modes, B × 3: a bin's mean
     of a strong roll-off departs from its value at the mean q²)."""
@@ -39,7 +39,7 @@ class Spectrum:
     C: np.ndarray
     modes: np.ndarray
     scatter: np.ndarray
-    kind: str
+    kind: AbstractMeasurementKind
     spacing: float
     q_squared: np.ndarray | None = None
     q_squared_cumulants: np.ndarray | None = None
@@ -51,10 +51,10 @@ class Spectrum:
 
     def slope_of(self, D: float) -> float:
         """The log-log slope of the W-M power law: `-(6 - 2D)` areal, `-(5 - 2D)` profile."""
-        return spectral_slope(self.kind, D)
+        return self.kind.spectral_slope(D)
 
     def D_of(self, slope):
-        return (slope - spectral_slope(self.kind, 0.0)) / 2.0
+        return (slope - self.kind.spectral_slope(0.0)) / 2.0
 
 
 def _detrended(heights: np.ndarray) -> np.ndarray:
@@ -119,7 +119,7 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
         C=mean,
         modes=modes,
         scatter=np.maximum(scatter, 1e-3),
-        kind="areal" if heights.ndim == 2 else "profile",
+        kind=Areal() if heights.ndim == 2 else Profile(),
         spacing=spacing,
         q_squared=q_squared,
         q_squared_cumulants=np.stack([m2, m3, m4 - 3 * m2 * m2], axis=-1),
