@@ -85,7 +85,7 @@ def _characterisation_prior(c, fitted) -> GaussianPrior:
     if not np.all(np.isfinite(covariance)) or np.any(np.diag(covariance) <= 0):
         raise InputError("prior: the characterisation has no usable covariance of (D, ln G) (D was held?)")
     source = f"the topography ({c.method}, band {c.band[0]:.3g}-{c.band[1]:.3g} m)"
-    if len(index) == 2 and getattr(c, "power_law", None) is not None:
+    if len(index) == 2 and c.power_law is not None:
         spectral_mean, spectral_covariance, log_q = decorrelated(c.power_law)
         return GaussianPrior(index, spectral_mean, spectral_covariance, source, c.kind, log_q, mean)
     return GaussianPrior(index, mean, covariance, source)

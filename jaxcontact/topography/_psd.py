@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from ..numerics._validate import InputError, spelled
-from ._band import MIN_MODES, MIN_RATIO, fit_band, select_band
+from ._band import MIN_MODES, MIN_RATIO, PowerLaw, fit_band, select_band
 from ._checks import widened_for_filling
 from ._result import Characterisation
 from ._whole import local_slopes, whole_spectrum
@@ -73,7 +73,7 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
         )
     if band is None:
         law = select_band(spectrum, q_max, None if D is None else spectrum.slope_of(float(D)))
-        if not hasattr(law, "slope"):
+        if not isinstance(law, PowerLaw):
             slopes = _q_and_D(local_slopes(spectrum))
             raise NoBandError(
                 f"no power-law band: no window of the {kind.noun}'s spectrum spanning a factor 4 is a power law within "

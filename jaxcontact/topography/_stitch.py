@@ -11,7 +11,7 @@ from scipy import optimize
 
 from ..numerics._validate import InputError, spelled
 from . import _spectra as spectra
-from ._band import CALIBRATION, select_band
+from ._band import CALIBRATION, PowerLaw, select_band
 from ._kind import Stitched
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
@@ -27,7 +27,7 @@ def _measured(topography, index: int):
     spectrum = whole_spectrum(kind.heights(rows), dx, periodic)
     cutoff = topography.short_reliability_cutoff()
     law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff)
-    if not hasattr(law, "slope"):
+    if not isinstance(law, PowerLaw):
         raise NoBandError(
             f"measurement {index + 1} has no power-law band of its own to join (characterise it alone to see why)",
             spectrum,
