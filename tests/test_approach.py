@@ -133,7 +133,7 @@ def test_bad_reference_load(table1_scene):
 
 def test_where_programs_are_kept_a_later_call_reads_the_approach_untraced(dynamics_scene, tmp_path, monkeypatch):
     from jaxcontact.applications import _loadapproach as loadapproach
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     traced = []
 
@@ -156,7 +156,7 @@ def test_while_equinox_checks_through_host_callbacks_the_approach_is_not_exporte
     dynamics_scene, tmp_path, monkeypatch
 ):
     """No exported program can hold a host callback: tracing the solve to export it would be for nothing."""
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     monkeypatch.setattr("equinox._errors.EQX_ON_ERROR", "raise")
     with exported.exported_programs(tmp_path):

@@ -14,6 +14,7 @@ import jaxcontact as jc
 from jaxcontact.core import _loadcontrol as loadcontrol
 from jaxcontact.programs import _compiling as compiling
 from jaxcontact.programs import _programs as programs
+from jaxcontact.programs import program as store_program
 
 
 def _compiled_lengths(scene, outputs):
@@ -132,15 +133,15 @@ def _program_args():
 
 
 def test_an_exported_program_is_read_back_without_tracing(tmp_path):
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     x, pair = _program_args()
     calls = []
     with exported.exported_programs(tmp_path):
-        first = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+        first = store_program("demo", "static", _counting(calls), (x, pair))(x, pair)
         assert len(calls) == 1
         assert len(list(tmp_path.glob("demo-*.jaxexport"))) == 1
-        again = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+        again = store_program("demo", "static", _counting(calls), (x, pair))(x, pair)
     assert len(calls) == 1  # read from disk: not traced again
     expected = jax.jit(_counting([]))(x, pair)
     for got in (first, again):
@@ -149,36 +150,35 @@ def test_an_exported_program_is_read_back_without_tracing(tmp_path):
 
 
 def test_another_static_description_or_shape_is_another_exported_program(tmp_path):
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     x, pair = _program_args()
     with exported.exported_programs(tmp_path):
-        exported.program("demo", "static", _counting([]), (x, pair))
-        exported.program("demo", "other", _counting([]), (x, pair))
-        exported.program("demo", "static", _counting([]), (x[:4], (pair[0], pair[1][:4])))
+        store_program("demo", "static", _counting([]), (x, pair))
+        store_program("demo", "other", _counting([]), (x, pair))
+        store_program("demo", "static", _counting([]), (x[:4], (pair[0], pair[1][:4])))
     assert len(list(tmp_path.glob("demo-*.jaxexport"))) == 3
 
 
 def test_an_unreadable_exported_program_is_traced_instead(tmp_path):
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     x, pair = _program_args()
     with exported.exported_programs(tmp_path):
-        exported.program("demo", "static", _counting([]), (x, pair))
+        store_program("demo", "static", _counting([]), (x, pair))
         (path,) = tmp_path.glob("demo-*.jaxexport")
         path.write_bytes(b"not an exported program")
         calls = []
-        got = exported.program("demo", "static", _counting(calls), (x, pair))(x, pair)
+        got = store_program("demo", "static", _counting(calls), (x, pair))(x, pair)
     assert len(calls) == 1
     np.testing.assert_array_equal(got[0], jax.jit(_counting([]))(x, pair)[0])
 
 
 def test_without_a_directory_nothing_is_written(tmp_path, monkeypatch):
-    from jaxcontact.programs import _exported as exported
 
     monkeypatch.chdir(tmp_path)
     x, pair = _program_args()
-    exported.program("demo", "static", _counting([]), (x, pair))(x, pair)
+    store_program("demo", "static", _counting([]), (x, pair))(x, pair)
     assert not list(tmp_path.rglob("*"))
 
 
@@ -186,7 +186,7 @@ def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_progra
     """A model defined outside the package: editing its file must not read the old program."""
     import importlib
 
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     source = tmp_path / "outside_model.py"
     source.write_text("import equinox as eqx\n\n\nclass Outside(eqx.Module):\n    scale: float = 2.0\n")
@@ -196,14 +196,14 @@ def test_a_changed_source_file_of_a_closed_over_class_is_another_exported_progra
     x, pair = _program_args()
     store = tmp_path / "store"
     with exported.exported_programs(store):
-        exported.program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
+        store_program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
         source.write_text(source.read_text() + "# edited\n")
-        exported.program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
+        store_program("demo", "static", _counting([]), (x, pair), closed_over=(treedef,))
     assert len(list(store.glob("demo-*.jaxexport"))) == 2
 
 
 def test_a_solve_kept_on_disk_is_read_back_untraced_with_the_same_solution(tmp_path):
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     # A configuration no other test uses, so that its program is not already traced here.
     scene = make_scene(**TABLE1, interaction="series", quadrature_nodes=19)
@@ -226,7 +226,7 @@ import logging, jax, numpy as np
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_log_compiles", True)
 import jaxcontact as jc
-from jaxcontact.programs import _exported as exported
+from jaxcontact.cli import _exported as exported
 compiled = []
 class Names(logging.Handler):
     def emit(self, record):
@@ -249,7 +249,7 @@ print(",".join(compiled), repr(float(stiffness[7])))
 
 
 def test_a_kept_executable_that_fails_is_deleted_and_the_exported_program_used(tmp_path):
-    from jaxcontact.programs import _exported as exported
+    from jaxcontact.cli import _exported as exported
 
     def broken(*args):
         raise RuntimeError("Function add_divide_fusion not found")
@@ -268,7 +268,7 @@ def test_the_command_lines_short_compile_solve_gives_the_default_compilations_nu
 import jax, numpy as np
 jax.config.update("jax_enable_x64", True)
 import jaxcontact as jc
-from jaxcontact.programs import _exported as exported
+from jaxcontact.cli import _exported as exported
 scene, loads = jc.table1_scene(), np.geomspace(2.2, 22000.0, 41)  # the default scene's F* 1e-7 to 1e-3
 default = jc.solve(scene, loads)
 with exported.exported_programs({str(tmp_path)!r}):
@@ -302,3 +302,42 @@ def test_the_solution_tree_is_known_without_tracing(options, shares):
         jax.eval_shape(lambda s, F: jc.solve(s, F, outputs=outputs), scene, jnp.ones(3))
     )
     assert loadcontrol._solution_tree(treedef)(leaves) == traced
+
+
+class _Installed:
+    """A distribution as importlib.metadata gives it: a version, and how it was installed."""
+
+    def __init__(self, version, direct_url):
+        self.version, self.direct_url = version, direct_url
+
+    def read_text(self, name):
+        return self.direct_url if name == "direct_url.json" else None
+
+
+def _identity(monkeypatch, distribution):
+    from jaxcontact.cli import _exported as exported
+
+    monkeypatch.setattr(exported.importlib.metadata, "distribution", lambda name: distribution)
+    jc.clear_caches()
+    try:
+        return exported.installed()
+    finally:
+        monkeypatch.undo()
+        jc.clear_caches()
+
+
+def test_kept_programs_of_an_installed_release_are_keyed_on_its_version(monkeypatch):
+    assert _identity(monkeypatch, _Installed("9.9.9", None)) == "jaxcontact 9.9.9"
+
+
+EDITABLE = '{"url": "file:///src", "dir_info": {"editable": true}}'
+
+
+def test_kept_programs_of_an_editable_install_are_keyed_on_a_digest_of_its_source(monkeypatch):
+    assert len(_identity(monkeypatch, _Installed("9.9.9", EDITABLE))) == 64  # sha256, hex
+
+
+def test_an_editable_installs_key_changes_with_its_version_too(monkeypatch):
+    assert _identity(monkeypatch, _Installed("9.9.9", EDITABLE)) != _identity(
+        monkeypatch, _Installed("9.9.8", EDITABLE)
+    )

@@ -2,7 +2,7 @@
 parameter sweeps, and chunked solves of long load sweeps."""
 
 from ._approach_sum import Approach, approach_quadrature, approach_star
-from ._chunks import map_in_chunks, solve_sweep
+from ._chunks import CHUNK, map_in_chunks, solve_sweep
 from ._sharded_sweep import SweepResult, sweep
 
 # The applications that integrate with diffrax are imported when first used: diffrax's import
@@ -23,6 +23,7 @@ __all__ = [
     "approach_quadrature",
     "approach_star",
     "SweepResult",
+    "CHUNK",
     "map_in_chunks",
     "solve_sweep",
     "sweep",

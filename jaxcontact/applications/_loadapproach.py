@@ -17,10 +17,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from .. import programs
 from ..core import Scene, kink_log_loads, point_solver, prepare
 from ..numerics import LoadsLike
 from ..numerics._compat import checks_without_host_callbacks, top_level
-from ..programs import _exported as exported
 from ..programs import padded, unpadded
 from ..quantities import Scales, Status
 from ._approach_sum import Approach
@@ -120,7 +120,7 @@ def approach(
     padded_loads = padded(loads)
     # Exported only where it can be (no host callback in diffrax's checks), else it would be traced
     # for nothing.
-    if exported.active() and top_level() and checks_without_host_callbacks():
+    if programs.keeping() and top_level() and checks_without_host_callbacks():
         result = _kept_approach(scene, padded_loads, reference_load, rtol, max_steps)
     else:
         result = _approach(scene, padded_loads, reference_load, rtol, max_steps)
@@ -131,8 +131,8 @@ def approach(
 
 
 def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: int) -> Approach:
-    """`_approach` through its program kept on disk (`programs._exported`, where the command line keeps
-    programs): a later process neither traces nor compiles it (tracing alone is ~4 s)."""
+    """`_approach` through its program in the current store (the command line's on disk): a later
+    process neither traces nor compiles it (tracing alone is ~4 s)."""
     leaves, treedef = jax.tree_util.tree_flatten(scene)
 
     def flat(leaves, loads, reference_load):
@@ -140,5 +140,5 @@ def _kept_approach(scene: Scene, loads, reference_load, rtol: float, max_steps: 
         return jax.tree_util.tree_leaves(_approach(scene, loads, reference_load, rtol, max_steps))
 
     args = (leaves, loads, reference_load)
-    run = exported.program("approach", f"{rtol!r}-{max_steps}", flat, args, closed_over=(treedef,))
+    run = programs.program("approach", f"{rtol!r}-{max_steps}", flat, args, closed_over=(treedef,))
     return Approach(*run(*args))

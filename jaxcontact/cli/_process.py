@@ -11,7 +11,7 @@ import pathlib
 import sys
 import threading
 
-from ..programs import exported_programs
+from ._exported import exported_programs
 
 _SETTINGS = (
     "jax_enable_x64",
@@ -52,7 +52,7 @@ def command_settings(persistent_cache: bool = True):
             jax.config.update("jax_compilation_cache_dir", cache)
             jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
             jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
-            # Traced programs too (`programs._exported`): the compilation cache skips XLA, not tracing.
+            # Traced programs too (`_exported`): the compilation cache skips XLA, not tracing.
             programs = pathlib.Path(cache) / "exported"
         except OSError:
             pass  # a read-only home: run without the cache

@@ -26,9 +26,9 @@ def cmd_bench(args) -> int:
         return _bench_bem(args)
     if args.fit_batch is not None:
         return _bench_fit_batch(args)
-    from ..programs import exported_programs
     from ..studies._bench import run_all
     from ..studies._bench_report import format_markdown, format_results
+    from ._exported import exported_programs
     from ._report import scene_record, to_json
     from ._scenefile import load_scene
 

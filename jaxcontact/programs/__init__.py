@@ -1,17 +1,21 @@
-"""Compiled programs: one per static configuration, load arrays padded to a few bucket lengths, and
-(where the command line asks for it) kept on disk between processes (`exported_programs`)."""
+"""Compiled programs: one per static configuration, load arrays padded to a few bucket lengths, built in
+the current store (`kept_in`: this process by default; the command line keeps them on disk)."""
 
 from ._compiling import FastCompile, compiler_options
-from ._exported import executable, exported_programs, program
 from ._programs import bucket, call, edge_padded, padded, unpadded
+from ._store import AbstractProgramStore, InProcess, current_store, executable, keeping, kept_in, program
 
 __all__ = [
+    "AbstractProgramStore",
+    "current_store",
+    "InProcess",
+    "kept_in",
+    "keeping",
     "bucket",
     "call",
     "compiler_options",
     "edge_padded",
     "executable",
-    "exported_programs",
     "FastCompile",
     "padded",
     "program",

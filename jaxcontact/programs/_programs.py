@@ -7,8 +7,8 @@ fraction of a millisecond to run it). So the program is a plain `jax.jit` of the
 one per tree structure (the static choices: model, interaction, quadrature, ...), and concrete
 load arrays (a single load too) are padded to a few bucket lengths: a user who calls with 1, 7,
 30 and 200 loads compiles the solve twice (32 and 224), and only a cheap slice per length.
-Where the command line keeps programs on disk (`programs._exported`), a top-level call reads its
-program from there, so that a new process does not trace it again.
+Where a store other than this process's is active (`kept_in`: the command line keeps programs on
+disk), a top-level call takes its program from there, so that a new process does not trace it again.
 """
 
 from __future__ import annotations
@@ -22,11 +22,10 @@ import numpy as np
 
 from ..numerics import cached
 from ..numerics._compat import top_level
-from . import _exported as exported
+from . import _store as store
 
 SMALLEST_BUCKET = 32
 QUARTERS_FROM = 128
-SHORT_COMPILE_BELOW = 4096  # the command line's chunk (`applications._chunks.CHUNK`)
 
 
 def bucket(size: int) -> int:
@@ -67,24 +66,26 @@ class _Program:
         self.flat = jax.jit(flat)
 
     def run(self, leaves, loads):
-        """The outputs' leaves for concrete arguments, at top level: from a program kept on disk
-        where the command line keeps them (`programs._exported`: a new process need not trace it).
+        """The outputs' leaves for concrete arguments, at top level: from the current store where one
+        other than this process's is active (the command line's on disk: a new process need not
+        trace it).
 
-        There, a process makes a few calls per program, so programs for fewer loads than
-        `SHORT_COMPILE_BELOW` are compiled for a short compile time (`compiling.FastCompile`:
-        "paper", 64 loads, 1.6-1.8 s instead of 2.8 s, the same run time), and their compiled
-        executables are kept as well (`exported.executable`); a full chunk of a long sweep keeps
-        XLA's default, whose loops run 4096 loads 2x faster.
+        A store for processes that make a few calls per program says below how many loads a program
+        is compiled for a short compile time (`short_compile_below`; `compiling.FastCompile`:
+        "paper", 64 loads, 1.6-1.8 s instead of 2.8 s, the same run time), its executable kept as
+        well (`AbstractProgramStore.executable`); a full chunk of a long sweep keeps XLA's default,
+        whose loops run 4096 loads 2x faster.
         """
-        if not exported.active():
+        if not store.keeping():
             return self.flat(leaves, loads)
-        key = (loads.shape, loads.dtype)
+        kept = store.current_store()
+        key = (kept, loads.shape, loads.dtype)
         if key not in self.on_disk:
             args = ("solve", self.name, self.function, (leaves, loads))
-            if loads.size < SHORT_COMPILE_BELOW:  # its executable is kept too: nothing to lower
-                self.on_disk[key] = exported.executable(*args, closed_over=(self.treedef,))
+            if loads.size < kept.short_compile_below:  # its executable is kept too: nothing to lower
+                self.on_disk[key] = kept.executable(*args, closed_over=(self.treedef,))
             else:
-                self.on_disk[key] = exported.program(*args, closed_over=(self.treedef,), fast_compile=False)
+                self.on_disk[key] = kept.program(*args, closed_over=(self.treedef,), fast_compile=False)
         return self.on_disk[key](leaves, loads)
 
 

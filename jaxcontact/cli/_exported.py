@@ -1,17 +1,18 @@
-"""Compiled programs kept on disk as exported StableHLO, so that a new process need not trace them.
+"""The command line's store of compiled programs (`programs.AbstractProgramStore`): on disk, as exported
+StableHLO, so that a new process need not trace them.
 
 JAX's persistent compilation cache skips XLA's compilation in a new process, but not tracing: the
 cache is keyed by the traced program. For the fit's model and Jacobian tracing alone takes ~3 s,
-more than the fit itself once compiled. With a directory set (`exported_programs`, which the
-command line sets), `program` keeps each program as a `jax.export` artefact: a later process
-reads it (~0.1 s) and goes straight to compilation, which the persistent cache then also skips.
-Without a directory (the library's default) it is a `jax.jit`. Either way it is compiled for a
-short compile time (`compiling.FastCompile`).
+more than the fit itself once compiled. Within `exported_programs(directory)` (which the command line
+enters), `DiskStore.program` keeps each program as a `jax.export` artefact: a later process reads it
+(~0.1 s) and goes straight to compilation, which the persistent cache then also skips. Either way it
+is compiled for a short compile time (`programs.FastCompile`).
 
 An artefact is named by a digest of everything that fixes the program: its name and static
-configuration, the shapes and dtypes of its arguments, the JAX version, the backend, the source
-of this package and of `fitting`, and the source files of the classes in the trees it closes over
-(a model defined elsewhere), so that a changed model never reads an old program.
+configuration, the shapes and dtypes of its arguments, the JAX version, the backend, the installed
+jaxcontact (its version; for an editable install, which runs its source as it is edited, the digest
+of that source), and the source files of the classes in the trees it closes over (a model defined
+elsewhere), so that a changed model never reads an old program.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import functools
 import hashlib
 import importlib.metadata
 import importlib.util
+import json
 import logging
 import os
 import pathlib
@@ -34,49 +36,38 @@ import jax
 import numpy as np
 from jax import export  # a submodule that older JAX does not import with `jax`
 
-from ..numerics import cached, register_cache
-from ._compiling import FastCompile, compiler_options
+from ..applications import CHUNK
+from ..numerics import cached
+from ..programs import AbstractProgramStore, FastCompile, compiler_options, kept_in
 
 logger = logging.getLogger(__name__)
-_directory: pathlib.Path | None = None
-_source_digest: str | None = None
-_keeping: list[threading.Thread] = []  # executables being checked and written (`executable`)
 
 
 @contextlib.contextmanager
 def exported_programs(directory):
-    """Keep the programs built by `program` in `directory` while the context is active (`None`: do
-    not); on leaving it, every program is on disk."""
-    global _directory
-    before = _directory
-    _directory = None if directory is None else pathlib.Path(directory)
-    try:
+    """Keep the programs the library builds in `directory` while the context is active (`None`: in
+    this process); on leaving it, every program is on disk."""
+    with kept_in(None if directory is None else DiskStore(pathlib.Path(directory))):
         yield
-    finally:
-        while _keeping:
-            _keeping.pop().join()
-        _directory = before
 
 
-@register_cache
-def _forget_sources() -> None:
-    global _source_digest
-    _source_digest = None
-
-
-def _sources() -> str:
-    global _source_digest
-    if _source_digest is None:
-        digest = hashlib.sha256()
-        package = pathlib.Path(__file__).resolve().parents[1]
-        # `jaxcontact.fitting` installs from a folder of its own (pyproject's package-dir).
-        fitting = importlib.util.find_spec("jaxcontact.fitting").submodule_search_locations[0]
-        for root in (package, pathlib.Path(fitting).resolve()):
+@cached
+def installed() -> str:
+    """What identifies the installed jaxcontact's code: its version, and for an editable install (whose
+    source runs as it is edited) a digest of the source of its packages, found by their import names."""
+    distribution = importlib.metadata.distribution("jaxcontact")
+    direct = json.loads(distribution.read_text("direct_url.json") or "{}")
+    identity = f"jaxcontact {distribution.version}"
+    if not direct.get("dir_info", {}).get("editable", False):
+        return identity
+    digest = hashlib.sha256(identity.encode())
+    for name in ("jaxcontact", "jaxcontact.fitting"):
+        for root in importlib.util.find_spec(name).submodule_search_locations:
+            root = pathlib.Path(root).resolve()
             for path in sorted(root.rglob("*.py")):
-                digest.update(str(path.relative_to(root.parent)).encode())
+                digest.update(str(path.relative_to(root)).encode())
                 digest.update(path.read_bytes())
-        _source_digest = digest.hexdigest()
-    return _source_digest
+    return digest.hexdigest()
 
 
 def _node_types(treedef):
@@ -103,22 +94,41 @@ def _key(name: str, static: str, args, closed_over) -> str:
     avals = [(tuple(x.shape), str(x.dtype)) for x in jax.tree_util.tree_leaves(args)]
     treedefs = (jax.tree_util.tree_structure(args), *closed_over)
     parts = (name, static, *map(repr, treedefs), _classes(treedefs), repr(avals), jax.__version__)
-    text = "\n".join(parts + (jax.default_backend(), _sources()))
+    text = "\n".join(parts + (jax.default_backend(), installed()))
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def active() -> bool:
-    """Whether programs are kept on disk (a directory is set by `exported_programs`)."""
-    return _directory is not None
+class DiskStore(AbstractProgramStore):
+    """Programs kept in `directory` between processes: exported (`program`), and for a short
+    compile time also as executables (`executable`). Solves of fewer loads than the command line's
+    chunk are compiled for a short compile time (`short_compile_below`): a process of the command
+    line makes a few calls per program."""
+
+    short_compile_below = CHUNK
+
+    def __init__(self, directory: pathlib.Path):
+        self.directory = directory
+        self.keeping: list[threading.Thread] = []  # executables being checked and written
+
+    def path(self, name: str, static: str, args, closed_over, suffix: str) -> pathlib.Path:
+        return self.directory / f"{name}-{_key(name, static, args, closed_over)}{suffix}"
+
+    def program(self, name, static, function, args, closed_over=(), fast_compile=True):
+        return program(self, name, static, function, args, closed_over, fast_compile)
+
+    def executable(self, name, static, function, args, closed_over=()):
+        return executable(self, name, static, function, args, closed_over)
+
+    def close(self) -> None:
+        while self.keeping:
+            self.keeping.pop().join()
 
 
-def _path(name: str, static: str, args, closed_over, suffix: str) -> pathlib.Path:
-    return _directory / f"{name}-{_key(name, static, args, closed_over)}{suffix}"
-
-
-def program(name: str, static: str, function: Callable, args, closed_over=(), fast_compile: bool = True) -> Callable:
+def program(
+    store: DiskStore, name: str, static: str, function: Callable, args, closed_over=(), fast_compile: bool = True
+) -> Callable:
     """`FastCompile(function)` for arguments like `args` (arrays, or pytrees of arrays), read from or
-    written to the directory of `exported_programs` when one is set.
+    written to the store's directory.
 
     `static` must describe everything `function` closes over that changes the program (the
     fitted parameters' names), and `closed_over` holds the tree structures it closes over (the
@@ -128,10 +138,8 @@ def program(name: str, static: str, function: Callable, args, closed_over=(), fa
     """
     make = FastCompile if fast_compile else jax.jit
     jitted = make(function)
-    if _directory is None:
-        return jitted
     try:
-        path = _path(name, static, args, closed_over, ".jaxexport")
+        path = store.path(name, static, args, closed_over, ".jaxexport")
         if path.exists():
             exported = export.deserialize(bytearray(path.read_bytes()))
         else:
@@ -162,7 +170,7 @@ def _host() -> str:
     return hashlib.sha256("\n".join(parts).encode()).hexdigest()[:16]
 
 
-def executable(name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
+def executable(store: DiskStore, name: str, static: str, function: Callable, args, closed_over=()) -> Callable:
     """`program(...)` compiled for a short compile time, with the compiled executable itself kept
     in the directory instead, so that a later process neither traces, lowers nor compiles it
     (~0.15 s to load, against ~0.45 s to lower the exported program and fetch it from JAX's cache).
@@ -178,14 +186,14 @@ def executable(name: str, static: str, function: Callable, args, closed_over=())
     (`_host`). Like JAX's own compilation cache, the directory is trusted (the file is a pickle).
     Call the result with concrete arguments only.
     """
-    exported_program = functools.partial(program, name, static, function, args, closed_over)
-    if _directory is None or not compiler_options():
+    exported_program = functools.partial(program, store, name, static, function, args, closed_over)
+    if not compiler_options():
         return exported_program()
     try:
-        path = _path(name, static, args, closed_over, f"-{_host()}.jaxexec")
+        path = store.path(name, static, args, closed_over, f"-{_host()}.jaxexec")
         if path.exists():
             return _Kept(_load(path.read_bytes()), path, exported_program)
-        if _path(name, static, args, closed_over, ".jaxexport").exists():
+        if store.path(name, static, args, closed_over, ".jaxexport").exists():
             compiled = exported_program().top_level.lower(*args).compile()
         else:
             compiled = jax.jit(function, compiler_options=compiler_options()).lower(*args).compile()
@@ -193,10 +201,10 @@ def executable(name: str, static: str, function: Callable, args, closed_over=())
         logger.info("compiled program %s not read (%s: %s); using the exported one", name, type(error).__name__, error)
         return exported_program()
     # Checked and written on a second thread, mostly outside the GIL: the caller goes on with the
-    # results (a cold `jaxcontact run` draws its figures meanwhile); `exported_programs` waits for it.
+    # results (a cold `jaxcontact run` draws its figures meanwhile); the store's `close` waits for it.
     keeper = threading.Thread(target=_keep, args=(name, path, compiled, args, exported_program), daemon=True)
     keeper.start()
-    _keeping.append(keeper)
+    store.keeping.append(keeper)
     return compiled
 
 
