@@ -48,9 +48,10 @@ def within_domain(scene: Scene) -> tuple[Scene, Bool[Array, ""]]:
     return eqx.tree_at(scene_fields, scene, values), all_valid(valid)
 
 
-def _flagged_outside_domain(scene: Scene, build):
-    scene, in_domain = within_domain(scene)
-    model_solve = build(scene.model, nondimensionalise(scene))
+def _flagged(guarded: Scene, in_domain, build):
+    """The model's solve (`build`) of the scene with stand-ins (`within_domain`), its points flagged
+    `INVALID_PARAMETERS` where the scene as given was not `in_domain`."""
+    model_solve = build(guarded.model, nondimensionalise(guarded))
 
     def flagged(F_star) -> PointResult:
         point = model_solve(F_star)
@@ -68,13 +69,13 @@ def point_solver(scene: Scene):
     K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
     parameters are outside their domain get `Status.INVALID_PARAMETERS`.
     """
-    return _flagged_outside_domain(scene, type(scene.model).point_solver)
+    return _flagged(*within_domain(scene), type(scene.model).point_solver)
 
 
 def curve_solver(scene: Scene):
     """As `point_solver`, for all loads at once: `F*` (1-D) ↦ `PointResult`s with a loads axis
     (a swept model's sweep, else the points mapped)."""
-    return _flagged_outside_domain(scene, model_curve_solver)
+    return _flagged(*within_domain(scene), model_curve_solver)
 
 
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
@@ -85,15 +86,14 @@ def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
 
 def _solve(tree: tuple[Scene, Outputs], loads):
     scene, outputs = tree
-    # The scales too come from the stand-in where the scene is out of its domain (the points are
-    # flagged by `point_solver`, which is handed the scene as it is).
-    guarded, _ = within_domain(scene)
+    # The scales too come from the stand-in where the scene is out of its domain (its points are flagged).
+    guarded, in_domain = within_domain(scene)
     scales = Scales.of(guarded)
     # A traced NaN or non-positive load is flagged by `point_solver`; divided by E A_a as it is, it
     # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
     usable = jnp.isfinite(loads) & (loads > 0)
     load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
-    points = curve_solver(scene)(load_star.reshape(-1))
+    points = _flagged(guarded, in_domain, model_curve_solver)(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     solved = is_solved(status)
