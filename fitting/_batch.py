@@ -11,6 +11,7 @@ accelerator the curves run in parallel.
 
 from __future__ import annotations
 
+import functools
 import time
 
 import jax
@@ -20,52 +21,13 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.core import prepare
-from jaxcontact.numerics import float_array, standard_promotion
+from jaxcontact.numerics import float_array
 
+from ._batch_program import program
 from ._batch_result import BatchResult, batch_statistics, without
 from ._observed import observations
-from ._parameters import resolve, stat_of_u
-from ._residuals import Observations, observed_residuals
-
-# Gauss–Newton steps after L-BFGS (each taken only where it lowers the loss): from where L-BFGS's tests
-# stop on the ill-conditioned D–G valley, a few reach the least-squares optimum to round-off.
-POLISH_STEPS = 4
-
-
-def _solver(scene, fitted, data: Observations, max_iter: int, tol: float):
-    """One curve's fit from one start `u0`: optax L-BFGS until the gradient's norm or the loss's relative
-    progress falls below `tol`, or `max_iter` steps."""
-    import optax
-
-    def loss(u):
-        r, _, _ = observed_residuals(stat_of_u(fitted, u), scene, fitted, data)
-        return 0.5 * jnp.mean(r * r)
-
-    optimiser = optax.lbfgs()
-
-    # The line search leaves the value and gradient at its accepted point in the state: the next
-    # step takes them from there. (`optax.value_and_grad_from_state` would do it by a `cond`, which
-    # under `vmap` computes the gradient again on every step.)
-    def body(carry):
-        u, state, value, grad, _, k = carry
-        updates, state = optimiser.update(grad, state, u, value=value, grad=grad, value_fn=loss)
-        new_value = optax.tree_utils.tree_get(state, "value")
-        new_grad = optax.tree_utils.tree_get(state, "grad")
-        return optax.apply_updates(u, updates), state, new_value, new_grad, value, k + 1
-
-    def going(carry):
-        _, _, value, grad, previous, k = carry
-        small = (jnp.linalg.norm(grad) < tol) | (jnp.abs(previous - value) <= tol * jnp.abs(value))
-        return (k < max_iter) & ~((k > 2) & small)
-
-    def run(u0):
-        value, grad = jax.value_and_grad(loss)(u0)
-        with standard_promotion():
-            init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
-            u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
-        return u, value, k
-
-    return run
+from ._parameters import resolve
+from ._prior import prior_arrays, residual_scale, resolve_prior
 
 
 def fit_batch(
@@ -77,6 +39,7 @@ def fit_batch(
     approach=None,
     reference_load=None,
     noise: float | dict[str, float] | None = None,
+    prior=None,
     n_starts: int = 4,
     seed: int = 0,
     max_iter: int = 100,
@@ -90,6 +53,8 @@ def fit_batch(
     the approach was measured; `None` with `approach` alone); `approach` (m, δ(F) − δ(F0), the same
     shape, NaN where not measured); `reference_load` (the preload F0, N: one for all curves or one per
     curve; default each curve's smallest load); `noise` (as `fit`'s: σ of ln K, or a dict by observable);
+    `prior` (as `fit`'s, the same for every curve: the MAP estimate and its Laplace covariance per
+    curve, each curve weighed against it by its own noise, stated or its residuals' scale fitted alone);
     `scene` (what is not fitted, shared by the curves, and one start); `params`; `n_starts` (per curve);
     `seed` (of the Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the
     gradient's norm and the loss's relative progress); `chunk` (curves per call of the compiled program:
@@ -103,41 +68,65 @@ def fit_batch(
     from ._statistics import inner_bounds
 
     t0 = time.perf_counter()
-    fitted = resolve(params)
+    gaussian, fitted = resolve_prior(prior, resolve(params))
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
     dtype = jnp.result_type(1.0)
-    loads, data, bad = _curves(loads, stiffness, approach, reference_load, noise, len(fitted), dtype)
+    loads, data, bad, stated = _curves(loads, stiffness, approach, reference_load, noise, len(fitted), dtype)
     traced, _ = prepare(scene, loads[0])
-    own = np.asarray([p.u_from_stat(np.clip(p.to_stat(float(p.get(scene))), *inner_bounds(p))) for p in fitted])
+    own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
+    if gaussian is not None:  # the prior's mean is the first start
+        own_stat[list(gaussian.index)] = gaussian.first_start
+    own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
     u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
-    leaves, treedef = jax.tree_util.tree_flatten(traced)
-    curves = len(data)
-    size = min(chunk, curves)
-    # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
-    stacked = data + [data[0]] * (-curves % size)
-    outputs, compile_time = [], 0.0
-    for start in range(0, len(stacked), size):
-        part = jax.tree.map(lambda *x: jnp.stack(x), *stacked[start : start + size])
-        args = (leaves, part, u0s)
-        key = (treedef, fitted, max_iter, tol, jax.tree_util.tree_structure(part))
-        key += (tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)),)
-        if key not in _PROGRAMS:
-            t1 = time.perf_counter()
-            _PROGRAMS[key] = jax.jit(_program(treedef, fitted, max_iter, tol)).lower(*args).compile()
-            compile_time += time.perf_counter() - t1
-        outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
-    outcome = tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs))
+    batch = functools.partial(_run, jax.tree_util.tree_flatten(traced), fitted, data, u0s, max_iter, tol, chunk)
+    sigmas = np.ones(len(data))
+    compile_time = 0.0
+    if gaussian is not None and not stated:
+        # Each curve's noise in ln K: its residuals' scale fitted alone (`fit`'s `noise_scale`).
+        alone, compile_time = batch(sigmas, None)
+        sigmas = np.array(
+            [residual_scale(r.reshape(-1), int(d.measured.sum()), len(fitted)) for r, d in zip(alone[3], data)]
+        )
+    outcome, seconds = batch(sigmas, gaussian)
     wall_time = time.perf_counter() - t0
-    result = batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time)
+    result = batch_statistics(
+        fitted, loads, data, outcome, max_iter, wall_time, compile_time + seconds, gaussian, sigmas
+    )
     return without(result, bad)
 
 
+def _run(flat_scene, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
+    """The compiled program over every curve, `chunk` at a time: its outputs (curves first), and the
+    seconds spent compiling it (0 where a batch of its shape was compiled before in this process)."""
+    leaves, treedef = flat_scene
+    dtype = u0s.dtype
+    index, kind = (None, None) if gaussian is None else (gaussian.index, gaussian.kind)
+    prior = None if gaussian is None else prior_arrays(gaussian, dtype)
+    curves = len(data)
+    size = min(chunk, curves)
+    # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
+    stacked, sigmas = data + [data[0]] * (-curves % size), np.concatenate([sigmas, np.ones(-curves % size)])
+    outputs, compile_time = [], 0.0
+    for start in range(0, len(stacked), size):
+        part = jax.tree.map(lambda *x: jnp.stack(x), *stacked[start : start + size])
+        args = (leaves, part, jnp.asarray(sigmas[start : start + size], dtype), prior, u0s)
+        key = (treedef, fitted, max_iter, tol, index, kind, jax.tree_util.tree_structure(args))
+        key += (tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)),)
+        if key not in _PROGRAMS:
+            t1 = time.perf_counter()
+            _PROGRAMS[key] = jax.jit(program(treedef, fitted, max_iter, tol, index, kind)).lower(*args).compile()
+            compile_time += time.perf_counter() - t1
+        outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
+    return tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs)), compile_time
+
+
 def _curves(loads, stiffness, approach, reference_load, noise, p: int, dtype):
-    """`(loads, data, bad)`: the loads (curves, points), each curve's `Observations` (a good curve's
-    standing in for a curve that cannot be fitted: one compiled shape) and, by curve, why it cannot."""
+    """`(loads, data, bad, stated)`: the loads (curves, points), each curve's `Observations` (a good
+    curve's standing in for a curve that cannot be fitted: one compiled shape), by curve why it cannot,
+    and whether every σ was stated (then the weighted residuals are in units of the noise)."""
     loads = np.atleast_2d(float_array("loads", loads))
     if loads.ndim != 2 or loads.shape[0] == 0:
         raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
@@ -153,14 +142,14 @@ def _curves(loads, stiffness, approach, reference_load, noise, p: int, dtype):
     references = np.broadcast_to(
         np.nan if reference_load is None else float_array("reference_load", reference_load), loads.shape[:1]
     )
-    bad, data = _bad_points(loads, given), {}
+    bad, data, stated = _bad_points(loads, given), {}, False
     for c in range(loads.shape[0]):
         if c in bad:
             continue
         try:
             reference = None if np.isnan(references[c]) else float(references[c])
             curve = {k: v[c] for k, v in given.items()}
-            data[c], _, _ = observations(
+            data[c], _, stated = observations(
                 loads[c], curve.get("stiffness"), curve.get("approach"), reference, noise, dtype, 1
             )
         except InputError as exc:
@@ -168,7 +157,7 @@ def _curves(loads, stiffness, approach, reference_load, noise, p: int, dtype):
     if not data:
         raise InputError(f"no curve can be fitted: {bad[0]}")
     good = next(iter(data.values()))
-    return loads, [data.get(c, good) for c in range(loads.shape[0])], bad
+    return loads, [data.get(c, good) for c in range(loads.shape[0])], bad, stated
 
 
 def _bad_points(loads, given: dict) -> dict[int, str]:
@@ -193,63 +182,3 @@ def _bad_points(loads, given: dict) -> dict[int, str]:
 # Compiled batch programs, by scene structure, fitted parameters, settings and argument shapes: a
 # second batch of the same shape (other curves, other fixed values) compiles nothing.
 _PROGRAMS: dict = {}
-
-
-def _polished(scene, fitted, data: Observations, u):
-    """Gauss–Newton steps from `u` (optimiser coordinates), each kept only where it lowers the loss:
-    `(u, loss, r, ok, status, J)` at the best point evaluated, `J = ∂r/∂stat` (statistical coordinates).
-    One evaluation of the residuals and their Jacobian per step, the same program each time."""
-
-    def residuals(stat):
-        r, ok, status = observed_residuals(stat, scene, fitted, data)
-        return r, (r, ok, status)
-
-    def evaluate(u):
-        J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat_of_u(fitted, u))
-        return r, ok, status, J
-
-    def step(_, carry):
-        trial, best_u, best = carry
-        found = evaluate(trial)
-        r = found[0].reshape(-1)
-        loss = 0.5 * jnp.mean(r * r)
-        better = jnp.isfinite(loss) & (loss < best[0])
-        best_u = jnp.where(better, trial, best_u)
-        best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (loss, *found), best)
-        _, r_best, ok_best, _, J_best = best
-        used = (ok_best & ~jnp.isnan(data.targets)).reshape(-1)
-        # ∂stat/∂u, one coordinate at a time (the map is elementwise): J in optimiser coordinates.
-        slope = jax.jvp(lambda x: stat_of_u(fitted, x), (best_u,), (jnp.ones_like(best_u),))[1]
-        J_u = jnp.where(used[:, None], J_best.reshape(r.size, -1) * slope[None, :], 0.0)
-        # The normal equations of a few parameters, nudged off singular (a step that does not lower
-        # the loss is not kept).
-        JTJ = J_u.T @ J_u
-        nudge = 1e-12 * jnp.trace(JTJ) * jnp.eye(JTJ.shape[0], dtype=JTJ.dtype)
-        delta = jnp.linalg.solve(JTJ + nudge, -J_u.T @ jnp.where(used, r_best.reshape(-1), 0.0))
-        return best_u + jnp.where(jnp.isfinite(delta), delta, 0.0), best_u, best
-
-    shapes = jax.eval_shape(evaluate, u)
-    empty = (jnp.asarray(jnp.inf, u.dtype), *(jnp.zeros(x.shape, x.dtype) for x in shapes))
-    _, u, (loss, r, ok, status, J) = jax.lax.fori_loop(0, POLISH_STEPS, step, (u, u, empty))
-    return u, loss, r, ok, status, J
-
-
-def _program(treedef, fitted, max_iter: int, tol: float):
-    """(scene leaves, each curve's `Observations` stacked, starts) ↦ vmap over curves of (vmap over
-    starts of the solver, the best start polished, its loss, steps, residuals, valid mask, statuses and
-    Jacobian)."""
-
-    def one_curve(scene, data, u0s):
-        run = _solver(scene, fitted, data, max_iter, tol)
-        us, losses, ks = jax.vmap(run)(u0s)
-        best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
-        u, loss, r, ok, status, J = _polished(scene, fitted, data, us[best])
-        # Every start's end, the best one polished: where the others ended says whether a distinct
-        # optimum fits almost as well (`rival_optima`).
-        return u, loss, ks[best], r, ok, status, J, us.at[best].set(u), losses.at[best].set(loss)
-
-    def batch(leaves, data, u0s):
-        scene = jax.tree_util.tree_unflatten(treedef, leaves)
-        return jax.vmap(one_curve, in_axes=(None, 0, None))(scene, data, u0s)
-
-    return batch

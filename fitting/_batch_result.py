@@ -7,6 +7,7 @@ import dataclasses
 
 import numpy as np
 
+from ._prior import with_prior_of
 from ._residuals import Evaluated
 from ._statistics import rival_optima, statistics_of
 
@@ -19,7 +20,9 @@ class BatchResult:
     combination of the parameters determined: a curve of pure noise is not a success), `flagged`
     (valid-point mask is its negation: shape (curves, points)), `determined` (curves, p: whether each
     Fisher combination is determined), `warnings` (a tuple of strings per curve), `wall_time` (s,
-    compilation included) and `compile_time` (0 where a batch of the same shape was compiled before in this process)."""
+    compilation included), `compile_time` (0 where a batch of the same shape was compiled before in
+    this process); with a prior, `information` (per curve, `fit`'s report by parameter of where its
+    interval's information came from) and `prior` (where the prior came from)."""
 
     params: tuple[str, ...]
     values: dict
@@ -34,15 +37,19 @@ class BatchResult:
     warnings: tuple
     wall_time: float
     compile_time: float
+    information: tuple = ()
+    prior: str | None = None
 
 
-def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time):
+def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time, gaussian=None, sigmas=None):
     """Per curve (`data`: each one's `Observations`), `statistics_of` at its optimum `u` (optimiser
     coordinates) from the program's residuals `r`, valid mask `ok`, statuses and Jacobian `J` (each
     (curves, points, ...)), with L-BFGS's step count `k` and the loss: the values, intervals,
     correlations, identifiability and warnings `fit` gives; plus the batch's own note of a curve whose
     L-BFGS did not converge. `outcome` is the program's `(u, loss, k, r, ok, status, J, us, losses)`,
-    the last two every start's end and loss (½ mean r² over every entry, measured or not)."""
+    the last two every start's end and loss (½ mean r² over every entry, measured or not). With a
+    prior (`gaussian`), each curve's intervals are the Laplace posterior's at its noise `sigmas[c]`
+    (`with_prior_of`), as `fit`'s."""
     u, loss, k, r, ok, status, J, us, losses = outcome
     p, curves = len(fitted), u.shape[0]
     names = [q.name for q in fitted]
@@ -52,7 +59,7 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
     correlation = np.full((curves, p, p), np.nan)
     determined = np.zeros((curves, p), bool)
     usable = np.zeros(curves, bool)
-    warnings = []
+    warnings, information = [], []
     for c in range(curves):
         stat = np.array([q.stat_from_u(x) for q, x in zip(fitted, u[c])])
         e = Evaluated(
@@ -63,6 +70,10 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
             data[c].measured.reshape(-1),
         )
         result = statistics_of(e, fitted, loads[c], data[c], stat)
+        sigma = 1.0 if gaussian is None else float(sigmas[c])
+        if gaussian is not None:
+            result, found = with_prior_of(result, e, fitted, stat, gaussian, sigma)
+            information.append(found)
         for n in names:
             values[n][c], stderr[n][c], ci95[n][c] = result["values"][n], result["stderr"][n], result["ci95"][n]
         correlation[c] = result["correlation"]
@@ -70,7 +81,7 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
         usable[c] = result["usable"] and result["n_used"] > p
         notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
         best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
-        rivals = rival_optima(fitted, us[c], best, result, losses[c], r[c].size, result["s2"])
+        rivals = rival_optima(fitted, us[c], best, result, losses[c], r[c].size, result["s2"] / sigma**2)
         warnings.append(tuple(notes + list(result["warnings"]) + rivals))
     success = (k < max_iter) & np.isfinite(loss) & usable
     return BatchResult(
@@ -87,6 +98,8 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
         warnings=tuple(warnings),
         wall_time=wall_time,
         compile_time=compile_time,
+        information=tuple(information),
+        prior=None if gaussian is None else gaussian.source,
     )
 
 

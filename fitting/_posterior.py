@@ -18,7 +18,6 @@ import time
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import gammaln as jax_gammaln
 
 import jaxcontact as jc
 from jaxcontact.core import prepare
@@ -26,9 +25,8 @@ from jaxcontact.core import prepare
 from ._nuts import run_chains
 from ._observed import observations
 from ._parameters import resolve, stat_of_u, with_stat
-from ._prior import residual_scale, resolve_prior
+from ._prior import prior_arrays, residual_scale, resolve_prior, traced_residuals
 from ._residuals import Observations, observed_residuals
-from ._spectral_prior import spectral_coordinates
 from ._statistics import inner_bounds
 
 # Above this share of the draws divergent, NUTS has not explored the posterior (a funnel, a kink):
@@ -108,20 +106,14 @@ class Posterior:
 def log_density(scene, fitted, data: Observations, sigma, gaussian):
     """The log density in optimiser coordinates `u` (a JAX function), for `run_chains`."""
     if gaussian is not None:
-        index, mean, precision = list(gaussian.index), jnp.asarray(gaussian.mean), jnp.linalg.inv(gaussian.covariance)
-
-        def coordinates(stat):
-            if gaussian.kind is None:
-                return stat
-            return jnp.stack(spectral_coordinates(gaussian.kind, gaussian.log_q, *stat, jax_gammaln))
+        arrays = prior_arrays(gaussian, jnp.result_type(data.loads))
 
     def logdensity(u):
         stat = stat_of_u(fitted, u)
         r, _, _ = observed_residuals(stat, scene, fitted, data)
         value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
         if gaussian is not None:
-            d = coordinates(stat[jnp.asarray(index)]) - mean
-            value = value - 0.5 * d @ precision @ d
+            value = value - 0.5 * jnp.sum(traced_residuals(gaussian.index, gaussian.kind, *arrays, stat) ** 2)
         return value
 
     return logdensity

@@ -14,7 +14,9 @@ import dataclasses
 import math
 
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
+from jax.scipy.special import gammaln as jax_gammaln
 
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
@@ -227,10 +229,28 @@ def residual_scale(r: np.ndarray, n: int, p: int) -> float:
     return max(math.sqrt(float(r @ r) / max(n - p, 1)), NOISE_FLOOR)
 
 
+def traced_residuals(index: tuple[int, ...], kind, root, mean, log_q, stat):
+    """`L⁻¹ (φ(θ) − μ)` of a `GaussianPrior` (its `index` and `kind` static; `root`, `mean`, `log_q` as
+    arrays) at all the fitted parameters' statistical coordinates `stat`, as a JAX function: inside a
+    compiled program (`fit_batch`'s loss, `sample`'s log density)."""
+    chosen = stat[jnp.asarray(index)]
+    phi = chosen if kind is None else jnp.stack(spectral_coordinates(kind, log_q, *chosen, jax_gammaln))
+    return root @ (phi - mean)
+
+
+def prior_arrays(prior: GaussianPrior, dtype) -> tuple:
+    """`(root, mean, log_q)` of `prior` as arrays of `dtype`, for `traced_residuals`."""
+    return tuple(jnp.asarray(x, dtype) for x in (prior.root, prior.mean, prior.log_q))
+
+
 def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):
     """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
     information report by parameter name."""
-    e = evaluated(stat_hat, scene, fitted, data, rows)
+    return with_prior_of(result, evaluated(stat_hat, scene, fitted, data, rows), fitted, stat_hat, gaussian, sigma)
+
+
+def with_prior_of(result, e, fitted, stat_hat, gaussian, sigma):
+    """`with_prior` from the residuals and Jacobian `e` at the optimum `stat_hat`."""
     post = posterior(e.J[e.used], sigma, gaussian, stat_hat)
     covariance = post["covariance"]
     spread = np.sqrt(np.diag(covariance))

@@ -118,3 +118,39 @@ def test_the_bad_points_warning_names_its_curve_and_point(mixed):
 def test_the_good_curves_beside_bad_ones_are_fitted_as_alone(mixed, batch):
     good = [0, 1, 3, 5]
     np.testing.assert_allclose(mixed.values["D"][good], batch.values["D"][good], rtol=1e-12)
+
+
+PRIOR = {"D": fitting.Normal(TRUTH["D"], 0.005)}
+
+
+@pytest.fixture(scope="module")
+def prior_fits(curves):
+    """The batch's curves with a prior on D, weighed at a stated noise: batch and one by one."""
+    batch = fitting.fit_batch(*curves, make_scene(**START), n_starts=4, prior=PRIOR, noise=0.05)
+    looped = [
+        fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=PRIOR, noise=0.05) for loads, K in zip(*curves)
+    ]
+    return batch, looped
+
+
+@pytest.mark.parametrize("name", ["D", "G"])
+def test_a_batch_with_a_prior_finds_each_curves_map_estimate(prior_fits, name):
+    batch, looped = prior_fits
+    np.testing.assert_allclose(batch.values[name], [r.values[name] for r in looped], rtol=1e-6)
+
+
+@pytest.mark.parametrize("name", ["D", "G"])
+def test_a_batch_with_a_prior_gives_each_curves_laplace_standard_error(prior_fits, name):
+    batch, looped = prior_fits
+    np.testing.assert_allclose(batch.stderr[name], [r.stderr[name] for r in looped], rtol=1e-6)
+
+
+def test_a_batch_with_a_prior_says_how_much_each_curve_measured(prior_fits):
+    batch, looped = prior_fits
+    shares = [info["D"]["curve_share"] for info in batch.information]
+    np.testing.assert_allclose(shares, [r.information["D"]["curve_share"] for r in looped], rtol=1e-6)
+
+
+def test_a_batch_with_a_prior_warns_as_the_fit_warns(prior_fits):
+    batch, looped = prior_fits
+    assert batch.warnings == tuple(tuple(r.warnings) for r in looped)
