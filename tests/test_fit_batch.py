@@ -154,3 +154,14 @@ def test_a_batch_with_a_prior_says_how_much_each_curve_measured(prior_fits):
 def test_a_batch_with_a_prior_warns_as_the_fit_warns(prior_fits):
     batch, looped = prior_fits
     assert batch.warnings == tuple(tuple(r.warnings) for r in looped)
+
+
+def test_a_batch_with_a_prior_weighs_each_curve_by_its_own_residual_scale(curves, one_by_one):
+    # Unstated, each curve's noise is its residuals' scale fitted alone: `fit` with that noise stated.
+    batch = fitting.fit_batch(*curves, make_scene(**START), n_starts=4, prior=PRIOR)
+    scales = [np.sqrt(np.nansum(r.residuals**2) / (np.isfinite(r.residuals).sum() - 2)) for r in one_by_one]
+    looped = [
+        fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=PRIOR, noise=float(s))
+        for loads, K, s in zip(*curves, scales)
+    ]
+    np.testing.assert_allclose(batch.stderr["D"], [r.stderr["D"] for r in looped], rtol=1e-6)
