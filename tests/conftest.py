@@ -80,6 +80,8 @@ gc.set_threshold(100_000, 50, 1000)
 # tests for the end, with one worker idle. Files not named follow in their usual order.
 LONGEST_FIRST = (
     "test_hard_cases.py",
+    "test_fit_batch.py",
+    "test_approach_fit.py",
     "test_bem_jax.py",
     "test_dynamics.py",
     "test_approach.py",
@@ -89,7 +91,6 @@ LONGEST_FIRST = (
     "test_posterior.py",
     "test_topography_band.py",
     "test_gradients.py",
-    "test_approach_fit.py",
     "test_topography.py",
     "test_programs.py",
     "test_compare_cli.py",
@@ -97,7 +98,6 @@ LONGEST_FIRST = (
     "test_bem_scale.py",
     "test_bem.py",
     "test_api.py",
-    "test_fit_batch.py",
     "test_inference.py",
     "test_comparator_fuzz.py",
     "test_pole_integral.py",
