@@ -72,12 +72,6 @@ def point_solver(scene: Scene):
     return _flagged(*within_domain(scene), type(scene.model).point_solver)
 
 
-def curve_solver(scene: Scene):
-    """As `point_solver`, for all loads at once: `F*` (1-D) ↦ `PointResult`s with a loads axis
-    (a swept model's sweep, else the points mapped)."""
-    return _flagged(*within_domain(scene), model_curve_solver)
-
-
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
     """`ln F*` where K(F) has a kink (the model's `kink_log_loads`), for integrators of K(F)."""
     scene, _ = within_domain(scene)
