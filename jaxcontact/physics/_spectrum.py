@@ -22,10 +22,17 @@ W_M_GAMMA = 1.5  # the W-M series' frequency ratio γ (docs/model.md §8)
 LOG_2PI = math.log(2.0 * math.pi)
 
 
-def log_areal_prefactor(D, log_G):
-    """`ln C0*` of `C2D*(q*) = C0* q*^-(6-2D)`, lengths in `sqrt(A_a)` (`log_G` = ln G*)."""
-    log_K1 = 2.0 * (D - 1.0) * log_G + (5.0 - 2.0 * D) * LOG_2PI - math.log(4.0 * math.log(W_M_GAMMA))
-    return log_K1 + math.log(2.0 * math.sqrt(math.pi)) + gammaln(3.0 - D) - gammaln(2.5 - D)
+def log_profile_prefactor(D, log_G):
+    """`ln K1` of the W-M profile's `C1D(q) = K1 q^-(5-2D)`, `K1 = G^(2(D-1)) (2π)^(5-2D) / (4 ln γ)`
+    (docs/model.md §8): arithmetic alone, for floats and arrays alike."""
+    return 2.0 * (D - 1.0) * log_G + (5.0 - 2.0 * D) * LOG_2PI - math.log(4.0 * math.log(W_M_GAMMA))
+
+
+def log_areal_prefactor(D, log_G, gammaln=gammaln):
+    """`ln C0` of the isotropic map's `C2D(q) = C0 q^-(6-2D)` whose line scans are the W-M profile's
+    (`C0 = K1 · 2 √π Γ(3-D) / Γ(5/2-D)`); in the scene's units (`log_G` = ln G*) it is `ln C0*`.
+    `gammaln` JAX's by default; scipy's for host floats."""
+    return log_profile_prefactor(D, log_G) + math.log(2.0 * math.sqrt(math.pi)) + gammaln(3.0 - D) - gammaln(2.5 - D)
 
 
 def log_band(log_a_min):

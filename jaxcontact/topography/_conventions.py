@@ -60,11 +60,6 @@ def profile_prefactor(D, G):
     return G ** (2 * (D - 1)) * (2 * math.pi) ** (5 - 2 * D) / (4 * math.log(GAMMA))
 
 
-def log_G_from_profile_prefactor(D, log_K1):
-    """`ln G` (W-M) from `ln K1`: the inverse of `profile_prefactor` at fixed D."""
-    return (log_K1 + math.log(4 * math.log(GAMMA)) - (5 - 2 * D) * math.log(2 * math.pi)) / (2 * (D - 1))
-
-
 def areal_prefactor(D, G):
     """`C0` of the isotropic `C2D(q) = C0 q^-(6-2D)` whose line scans have `C1D = K1 q^-(5-2D)`."""
     return profile_prefactor(D, G) * 2 * math.sqrt(math.pi) * special.gamma(3 - D) / special.gamma(2.5 - D)

@@ -17,11 +17,12 @@ import equinox as eqx
 import numpy as np
 from scipy import special
 
-from ._conventions import GAMMA
+from ..physics._spectrum import log_areal_prefactor, log_profile_prefactor
 
 
-def _log_profile_prefactor(D, log_G):
-    return 2 * (D - 1) * log_G + (5 - 2 * D) * math.log(2 * math.pi) - math.log(4 * math.log(GAMMA))
+def _d_log_profile_prefactor_dD(log_G):
+    """∂ ln K1 / ∂D at fixed ln G (`log_profile_prefactor`)."""
+    return 2 * log_G - 2 * math.log(2 * math.pi)
 
 
 class AbstractKind(eqx.Module):
@@ -87,10 +88,10 @@ class Profile(AbstractMeasurementKind):
     slope_offset: ClassVar[float] = 5.0
 
     def log_prefactor(self, D, log_G, gammaln=special.gammaln):
-        return _log_profile_prefactor(D, log_G)
+        return log_profile_prefactor(D, log_G)
 
     def d_log_prefactor_dD(self, D, log_G):
-        return 2 * log_G - 2 * math.log(2 * math.pi)
+        return _d_log_profile_prefactor_dD(log_G)
 
     def heights(self, rows):
         return rows[0]
@@ -113,10 +114,10 @@ class Areal(AbstractMeasurementKind):
     slope_offset: ClassVar[float] = 6.0
 
     def log_prefactor(self, D, log_G, gammaln=special.gammaln):
-        return _log_profile_prefactor(D, log_G) + math.log(2 * math.sqrt(math.pi)) + gammaln(3 - D) - gammaln(2.5 - D)
+        return log_areal_prefactor(D, log_G, gammaln)
 
     def d_log_prefactor_dD(self, D, log_G):
-        return 2 * log_G - 2 * math.log(2 * math.pi) - special.digamma(3 - D) + special.digamma(2.5 - D)
+        return _d_log_profile_prefactor_dD(log_G) - special.digamma(3 - D) + special.digamma(2.5 - D)
 
     def heights(self, rows):
         return rows.T
