@@ -9,11 +9,12 @@ from ._batch import BatchResult, fit_batch
 from ._data import COLUMN_SETS, Curve, DataError, load_curve, parse_curve, write_curve
 from ._fit import fit, model_stiffness, starting_points
 from ._identifiability import Combination, Profile
+from ._observables import FLAGGED_RESIDUAL
 from ._optimise import BFGS, METHODS, AbstractMethod, LevenbergMarquardt
 from ._parameters import PARAMETERS, FitParameter, resolve
 from ._posterior import Posterior, sample
 from ._prior import AbstractPrior, Bounds, Normal
-from ._residuals import FLAGGED_RESIDUAL, log_residuals
+from ._residuals import log_residuals
 from ._resonance import fit_resonance
 from ._result import FitResult
 

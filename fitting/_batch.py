@@ -25,6 +25,7 @@ from jaxcontact.numerics import float_array
 
 from ._batch_program import program
 from ._batch_result import BatchResult, batch_statistics, without
+from ._observables import Approach, Stiffness
 from ._observed import observations
 from ._parameters import resolve
 from ._prior import prior_arrays, residual_scale, resolve_prior
@@ -165,8 +166,8 @@ def _bad_points(loads, given: dict) -> dict[int, str]:
     (a stiffness may be NaN where an approach is given; an approach NaN where not measured)."""
     checks = {
         "loads": lambda v: np.isfinite(v) & (v > 0),
-        "stiffness": lambda v: (np.isfinite(v) & (v > 0)) | (np.isnan(v) & ("approach" in given)),
-        "approach": lambda v: ~np.isinf(v),
+        "stiffness": lambda v: Stiffness().valid(v) & (np.isfinite(v) | ("approach" in given)),
+        "approach": Approach().valid,
     }
     bad = {}
     for c in range(loads.shape[0]):

@@ -33,11 +33,14 @@ class Misfit(eqx.Module):
             return jnp.zeros((0,), stat.dtype)
         return traced_residuals(self.index, self.kind, *self.prior, stat)
 
+    def loss_of(self, r, r_prior):
+        """The loss of the curve's residuals `r` and the prior's `r_prior`."""
+        return 0.5 * (jnp.sum((r / self.sigma) ** 2) + jnp.sum(r_prior**2)) / r.size
+
     def loss(self, u):
         stat = stat_of_u(self.fitted, u)
         r, _, _ = observed_residuals(stat, self.scene, self.fitted, self.data)
-        total = jnp.sum((r / self.sigma) ** 2) + jnp.sum(self.prior_residuals(stat) ** 2)
-        return 0.5 * total / r.size
+        return self.loss_of(r, self.prior_residuals(stat))
 
     def evaluate(self, u):
         """`(r, ok, status, J)` of the curve at `u`, `J = ∂r/∂stat`, and the prior's residuals and Jacobian."""
@@ -48,8 +51,7 @@ class Misfit(eqx.Module):
 
         stat = stat_of_u(self.fitted, u)
         J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
-        J_prior, r_prior = jax.jacfwd(lambda s: (lambda x: (x, x))(self.prior_residuals(s)), has_aux=True)(stat)
-        return r, ok, status, J, r_prior, J_prior
+        return r, ok, status, J, self.prior_residuals(stat), jax.jacfwd(self.prior_residuals)(stat)
 
 
 # Gauss–Newton steps after L-BFGS (each taken only where it lowers the loss): from where L-BFGS's tests
@@ -100,8 +102,8 @@ def polished(misfit: Misfit, u):
     def step(_, carry):
         trial, best_u, best = carry
         found = misfit.evaluate(trial)
-        r, r_prior = found[0].reshape(-1), found[4]
-        loss = 0.5 * (jnp.sum((r / misfit.sigma) ** 2) + jnp.sum(r_prior**2)) / r.size
+        r = found[0].reshape(-1)
+        loss = misfit.loss_of(r, found[4])
         better = jnp.isfinite(loss) & (loss < best[0])
         best_u = jnp.where(better, trial, best_u)
         best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (loss, *found), best)

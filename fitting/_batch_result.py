@@ -70,8 +70,9 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
             data[c].measured.reshape(-1),
         )
         result = statistics_of(e, fitted, loads[c], data[c], stat)
-        sigma = 1.0 if gaussian is None else float(sigmas[c])
+        sigma = 1.0
         if gaussian is not None:
+            sigma = float(sigmas[c])
             result, found = with_prior_of(result, e, fitted, stat, gaussian, sigma)
             information.append(found)
         for n in names:

@@ -56,6 +56,10 @@ class AbstractObservable(eqx.Module):
     misfit_unit: eqx.AbstractClassVar[str]
 
     @abc.abstractmethod
+    def valid(self, values: np.ndarray) -> np.ndarray:
+        """Where each measured value is inside its valid range (NaN, not measured, counts as valid)."""
+
+    @abc.abstractmethod
     def target(self, values: np.ndarray) -> np.ndarray:
         """The measured `values` (NaN where not measured) as the fit's targets; `ValueError` for a
         value outside its valid range."""
@@ -81,8 +85,11 @@ class Stiffness(AbstractObservable):
     noise_units: ClassVar[str] = "σ of ln K"
     misfit_unit: ClassVar[str] = "in K"
 
+    def valid(self, values):
+        return np.isnan(values) | ((values > 0) & np.isfinite(values))
+
     def target(self, values):
-        if not np.all(np.isnan(values) | ((values > 0) & np.isfinite(values))):
+        if not np.all(self.valid(values)):
             raise InputError("stiffness must be positive and finite (valid range (0, inf)), or NaN where not measured")
         return np.log(values)
 
@@ -108,8 +115,11 @@ class Approach(AbstractObservable):
     noise_units: ClassVar[str] = "σ of the approach in m"
     misfit_unit: ClassVar[str] = "of the approach's rms"
 
+    def valid(self, values):
+        return ~np.isinf(values)
+
     def target(self, values):
-        if np.any(np.isinf(values)):
+        if not np.all(self.valid(values)):
             raise InputError("approach must be finite (m), or NaN where not measured")
         return values
 

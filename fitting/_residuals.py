@@ -17,7 +17,7 @@ from jaxtyping import Array, Float
 
 from jaxcontact import programs
 
-from ._observables import FLAGGED_RESIDUAL, AbstractObservable, Stiffness
+from ._observables import AbstractObservable, Stiffness
 from ._parameters import with_stat
 
 
@@ -43,13 +43,14 @@ class Observations(eqx.Module):
 
 
 def stiffness_curve(loads, log_stiffness) -> Observations:
-    """A stiffness curve as observations, σ = 1 in ln K (traceable: `fit_batch` makes one per curve)."""
+    """A stiffness curve as observations, σ = 1 in ln K (traceable: `log_residuals` builds one inside a
+    caller's trace, where `observations`' checks on the host cannot run)."""
     loads, log_stiffness = jnp.asarray(loads), jnp.asarray(log_stiffness)
     return Observations(
         loads=loads,
         targets=log_stiffness[:, None],
         weights=jnp.ones(1, loads.dtype),
-        flagged=jnp.full(1, FLAGGED_RESIDUAL, loads.dtype),
+        flagged=jnp.full(1, Stiffness().flagged(log_stiffness), loads.dtype),
         reference_load=jnp.min(loads),
         columns=(Stiffness(),),
     )
