@@ -23,8 +23,9 @@ from jaxcontact import InputError
 from jaxcontact.core import prepare
 from jaxcontact.numerics import float_array
 
-from ._batch_program import program
+from ._batch_program import fit_curves
 from ._batch_result import BatchResult, batch_statistics, without
+from ._compiled import compiled
 from ._observables import Approach, Stiffness
 from ._observed import observations
 from ._parameters import resolve
@@ -82,7 +83,7 @@ def fit_batch(
         own_stat[list(gaussian.index)] = gaussian.first_start
     own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
     u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
-    batch = functools.partial(_run, jax.tree_util.tree_flatten(traced), fitted, data, u0s, max_iter, tol, chunk)
+    batch = functools.partial(_run, traced, fitted, data, u0s, max_iter, tol, chunk)
     sigmas = np.ones(len(data))
     compile_time = 0.0
     if gaussian is not None and not stated:
@@ -99,13 +100,11 @@ def fit_batch(
     return without(result, bad)
 
 
-def _run(flat_scene, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
+def _run(traced, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
     """The compiled program over every curve, `chunk` at a time: its outputs (curves first), and the
     seconds spent compiling it (0 where a batch of its shape was compiled before in this process)."""
-    leaves, treedef = flat_scene
     dtype = u0s.dtype
-    index, kind = (None, None) if gaussian is None else (gaussian.index, gaussian.kind)
-    prior = None if gaussian is None else prior_arrays(gaussian, dtype)
+    prior, index, kind = prior_arrays(gaussian, dtype)
     curves = len(data)
     size = min(chunk, curves)
     # The last chunk is filled with copies of the first curve (cut off after): one compiled shape.
@@ -113,14 +112,12 @@ def _run(flat_scene, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
     outputs, compile_time = [], 0.0
     for start in range(0, len(stacked), size):
         part = jax.tree.map(lambda *x: jnp.stack(x), *stacked[start : start + size])
-        args = (leaves, part, jnp.asarray(sigmas[start : start + size], dtype), prior, u0s)
-        key = (treedef, fitted, max_iter, tol, index, kind, jax.tree_util.tree_structure(args))
-        key += (tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)),)
-        if key not in _PROGRAMS:
-            t1 = time.perf_counter()
-            _PROGRAMS[key] = jax.jit(program(treedef, fitted, max_iter, tol, index, kind)).lower(*args).compile()
-            compile_time += time.perf_counter() - t1
-        outputs.append([np.asarray(x) for x in _PROGRAMS[key](*args)])
+        sigma = jnp.asarray(sigmas[start : start + size], dtype)
+        run, dynamic, seconds = compiled(
+            fit_curves, traced, part, sigma, prior, u0s, fitted, max_iter, tol, index, kind
+        )
+        compile_time += seconds
+        outputs.append([np.asarray(x) for x in run(dynamic)])
     return tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs)), compile_time
 
 
@@ -178,8 +175,3 @@ def _bad_points(loads, given: dict) -> dict[int, str]:
                 valid = "finite (m) or NaN" if name == "approach" else "positive and finite"
                 bad[c] = f"curve {c}, point {i}: {name} = {float(values[i])!r} is not {valid}"
     return bad
-
-
-# Compiled batch programs, by scene structure, fitted parameters, settings and argument shapes: a
-# second batch of the same shape (other curves, other fixed values) compiles nothing.
-_PROGRAMS: dict = {}

@@ -4,55 +4,12 @@ finished by Gauss–Newton steps, and the residuals and Jacobian at the end for 
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 
 from jaxcontact.numerics import standard_promotion
 
-from ._parameters import stat_of_u
-from ._prior import traced_residuals
-from ._residuals import Observations, observed_residuals
-
-
-class Misfit(eqx.Module):
-    """One curve's misfit: its residuals (`data`, weighted) over the noise `sigma`, and where there is a
-    prior (`index` and `kind` static, `prior` its `(root, mean, log_q)`) the prior's `L⁻¹ (φ − μ)`; the
-    loss is ½ Σ over both, over the curve's number of residual entries."""
-
-    scene: object
-    data: Observations
-    sigma: jax.Array
-    prior: tuple | None
-    fitted: tuple = eqx.field(static=True)
-    index: tuple | None = eqx.field(static=True)
-    kind: object = eqx.field(static=True)
-
-    def prior_residuals(self, stat):
-        if self.prior is None:
-            return jnp.zeros((0,), stat.dtype)
-        return traced_residuals(self.index, self.kind, *self.prior, stat)
-
-    def loss_of(self, r, r_prior):
-        """The loss of the curve's residuals `r` and the prior's `r_prior`."""
-        return 0.5 * (jnp.sum((r / self.sigma) ** 2) + jnp.sum(r_prior**2)) / r.size
-
-    def loss(self, u):
-        stat = stat_of_u(self.fitted, u)
-        r, _, _ = observed_residuals(stat, self.scene, self.fitted, self.data)
-        return self.loss_of(r, self.prior_residuals(stat))
-
-    def evaluate(self, u):
-        """`(r, ok, status, J)` of the curve at `u`, `J = ∂r/∂stat`, and the prior's residuals and Jacobian."""
-
-        def residuals(stat):
-            r, ok, status = observed_residuals(stat, self.scene, self.fitted, self.data)
-            return r, (r, ok, status)
-
-        stat = stat_of_u(self.fitted, u)
-        J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
-        return r, ok, status, J, self.prior_residuals(stat), jax.jacfwd(self.prior_residuals)(stat)
-
+from ._misfit import Misfit
 
 # Gauss–Newton steps after L-BFGS (each taken only where it lowers the loss): from where L-BFGS's tests
 # stop on the ill-conditioned D–G valley, a few reach the least-squares optimum to round-off.
@@ -83,7 +40,7 @@ def solver(misfit: Misfit, max_iter: int, tol: float):
         return (k < max_iter) & ~((k > 2) & small)
 
     def run(u0):
-        value, grad = jax.value_and_grad(loss)(u0)
+        value, grad = misfit.value_and_grad(u0)
         with standard_promotion():
             init = (u0, optimiser.init(u0), value, grad, jnp.asarray(jnp.inf, u0.dtype), 0)
             u, _, value, _, _, k = jax.lax.while_loop(going, body, init)
@@ -97,7 +54,6 @@ def polished(misfit: Misfit, u):
     σ, and the prior's), each kept only where it lowers the loss: `(u, loss, r, ok, status, J)` at the
     best point evaluated, the curve's own `r` and `J = ∂r/∂stat`. One evaluation per step, the same
     program each time."""
-    fitted, data = misfit.fitted, misfit.data
 
     def step(_, carry):
         trial, best_u, best = carry
@@ -107,15 +63,7 @@ def polished(misfit: Misfit, u):
         better = jnp.isfinite(loss) & (loss < best[0])
         best_u = jnp.where(better, trial, best_u)
         best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (loss, *found), best)
-        _, r_best, ok_best, _, J_best, r_prior_best, J_prior_best = best
-        used = (ok_best & ~jnp.isnan(data.targets)).reshape(-1)
-        # ∂stat/∂u, one coordinate at a time (the map is elementwise): J in optimiser coordinates.
-        slope = jax.jvp(lambda x: stat_of_u(fitted, x), (best_u,), (jnp.ones_like(best_u),))[1]
-        J_curve = jnp.where(used[:, None], J_best.reshape(r.size, -1) / misfit.sigma, 0.0)
-        J_u = jnp.concatenate([J_curve, J_prior_best]) * slope[None, :]
-        residuals = jnp.concatenate([jnp.where(used, r_best.reshape(-1), 0.0) / misfit.sigma, r_prior_best])
-        # The normal equations of a few parameters, nudged off singular (a step that does not lower
-        # the loss is not kept).
+        residuals, J_u = misfit.linearised(best_u, best[1:])
         JTJ = J_u.T @ J_u
         nudge = 1e-12 * jnp.trace(JTJ) * jnp.eye(JTJ.shape[0], dtype=JTJ.dtype)
         delta = jnp.linalg.solve(JTJ + nudge, -J_u.T @ residuals)
@@ -127,12 +75,13 @@ def polished(misfit: Misfit, u):
     return u, loss, r, ok, status, J
 
 
-def program(treedef, fitted, max_iter: int, tol: float, index, kind):
-    """(scene leaves, each curve's `Observations` and σ stacked, the prior's arrays or None, starts) ↦
-    vmap over curves of (vmap over starts of the solver, the best start polished, its loss, steps,
-    residuals, valid mask, statuses and Jacobian; every start's end and loss)."""
+def fit_curves(scene, data, sigmas, prior, u0s, fitted, max_iter: int, tol: float, index, kind):
+    """Each curve (`data`, each one's `Observations` stacked, and its σ in `sigmas`; the prior's arrays or
+    None) fitted from every start `u0s`: vmap over curves of (vmap over starts of the solver, the best
+    start polished, its loss, steps, residuals, valid mask, statuses and Jacobian; every start's end
+    and loss)."""
 
-    def one_curve(scene, data, sigma, prior, u0s):
+    def one_curve(data, sigma):
         misfit = Misfit(scene, data, sigma, prior, fitted, index, kind)
         us, losses, ks = jax.vmap(solver(misfit, max_iter, tol))(u0s)
         best = jnp.argmin(jnp.where(jnp.isfinite(losses), losses, jnp.inf))
@@ -141,8 +90,4 @@ def program(treedef, fitted, max_iter: int, tol: float, index, kind):
         # optimum fits almost as well (`rival_optima`).
         return u, loss, ks[best], r, ok, status, J, us.at[best].set(u), losses.at[best].set(loss)
 
-    def batch(leaves, data, sigmas, prior, u0s):
-        scene = jax.tree_util.tree_unflatten(treedef, leaves)
-        return jax.vmap(one_curve, in_axes=(None, 0, 0, None, None))(scene, data, sigmas, prior, u0s)
-
-    return batch
+    return jax.vmap(one_curve)(data, sigmas)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import time
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -22,11 +23,12 @@ import numpy as np
 import jaxcontact as jc
 from jaxcontact.core import prepare
 
+from ._misfit import Misfit
 from ._nuts import run_chains
 from ._observed import observations
-from ._parameters import resolve, stat_of_u, with_stat
-from ._prior import prior_arrays, residual_scale, resolve_prior, traced_residuals
-from ._residuals import Observations, observed_residuals
+from ._parameters import resolve, with_stat
+from ._prior import prior_arrays, residual_scale, resolve_prior
+from ._residuals import Observations
 from ._statistics import inner_bounds
 
 # Above this share of the draws divergent, NUTS has not explored the posterior (a funnel, a kink):
@@ -103,20 +105,24 @@ class Posterior:
         }
 
 
-def log_density(scene, fitted, data: Observations, sigma, gaussian):
-    """The log density in optimiser coordinates `u` (a JAX function), for `run_chains`."""
-    if gaussian is not None:
-        arrays = prior_arrays(gaussian, jnp.result_type(data.loads))
+class LogDensity(eqx.Module):
+    """The log density in optimiser coordinates `u`: `−½ Σ (r/σ)² − ½ |L⁻¹ (φ − μ)|²` (the misfit's
+    loss times its number of residual entries) `+ ln |ds/du|`; a module, so that another curve's density
+    runs the sampler's compiled programs again (`run_chains`)."""
 
-    def logdensity(u):
-        stat = stat_of_u(fitted, u)
-        r, _, _ = observed_residuals(stat, scene, fitted, data)
-        value = -0.5 * jnp.sum((r / sigma) ** 2) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
-        if gaussian is not None:
-            value = value - 0.5 * jnp.sum(traced_residuals(gaussian.index, gaussian.kind, *arrays, stat) ** 2)
-        return value
+    misfit: Misfit
 
-    return logdensity
+    def __call__(self, u):
+        entries = self.misfit.data.targets.size
+        return -entries * self.misfit.loss(u) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
+
+
+def log_density(scene, fitted, data: Observations, sigma, gaussian) -> LogDensity:
+    """The posterior's `LogDensity` of a curve (`data`) at the noise `sigma`, with the prior `gaussian`
+    or none, for `run_chains`."""
+    dtype = jnp.result_type(data.loads)
+    prior, index, kind = prior_arrays(gaussian, dtype)
+    return LogDensity(Misfit(scene, data, jnp.asarray(sigma, dtype), prior, fitted, index, kind))
 
 
 def _scale(start, data: Observations, p: int) -> float:

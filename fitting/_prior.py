@@ -238,9 +238,12 @@ def traced_residuals(index: tuple[int, ...], kind, root, mean, log_q, stat):
     return root @ (phi - mean)
 
 
-def prior_arrays(prior: GaussianPrior, dtype) -> tuple:
-    """`(root, mean, log_q)` of `prior` as arrays of `dtype`, for `traced_residuals`."""
-    return tuple(jnp.asarray(x, dtype) for x in (prior.root, prior.mean, prior.log_q))
+def prior_arrays(prior: GaussianPrior | None, dtype) -> tuple:
+    """`(arrays, index, kind)` of `prior` for `traced_residuals`: `(root, mean, log_q)` as arrays of
+    `dtype`, and the static `index` and `kind`; `(None, None, None)` without a prior."""
+    if prior is None:
+        return None, None, None
+    return tuple(jnp.asarray(x, dtype) for x in (prior.root, prior.mean, prior.log_q)), prior.index, prior.kind
 
 
 def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):

@@ -16,6 +16,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from jaxcontact import programs
+from jaxcontact.numerics import register_cache
 
 from ._observables import AbstractObservable, Stiffness
 from ._parameters import with_stat
@@ -128,3 +129,4 @@ def evaluated(stat, scene, params, data: Observations, rows: int) -> Evaluated:
 
 # Built programs, by scene structure, fitted parameters, observables and argument shapes.
 _PROGRAMS: dict = {}
+register_cache(_PROGRAMS.clear)

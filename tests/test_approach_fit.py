@@ -210,7 +210,7 @@ def test_the_posteriors_density_of_an_approach_curve_is_its_misfit(fit_curve):
     scene, delta = fit_curve
     params, sigma, u = fitting.resolve(("D", "G")), 1e-9, np.array([0.3, -0.2])
     data, loads, _ = observations(LOADS, None, delta, None, sigma, np.float64, 1)
-    density = float(jax.jit(log_density(prepare(scene, loads)[0], params, data, 1.0, None))(u))
+    density = float(eqx.filter_jit(log_density(prepare(scene, loads)[0], params, data, 1.0, None))(u))
     values = tuple(p.from_stat(p.stat_from_u(x)) for p, x in zip(params, u))
     moved = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, values)
     model = np.asarray(jc.approach_quadrature(moved, LOADS, float(LOADS[0])).approach)

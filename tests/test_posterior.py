@@ -108,3 +108,9 @@ def test_the_posterior_of_a_rejected_model_says_so(steep_curve):
 
 def test_the_posterior_of_an_optimum_on_a_search_bound_names_the_bound(steep_curve):
     assert any("D = 2 is on its upper search bound 2" in w for w in steep_curve.warnings), steep_curve.warnings
+
+
+def test_a_second_curve_of_the_same_shape_samples_without_compiling(seed_model, steep_curve):
+    """The steep curve's posterior after the seed model's (the same scene structure, loads and
+    settings): the sampler's program is kept, only its arrays differ."""
+    assert steep_curve.times["compilation"] == 0.0
