@@ -20,16 +20,15 @@ import numpy as np
 
 import jaxcontact as jc
 from jaxcontact import InputError
-from jaxcontact.core import prepare
 from jaxcontact.numerics import float_array
 
 from ._batch_program import fit_curves
 from ._batch_result import BatchResult, batch_statistics, without
 from ._compiled import compiled
 from ._observables import Approach, Stiffness
-from ._observed import observations
 from ._parameters import resolve
 from ._prior import prior_arrays, residual_scale, resolve_prior
+from ._problem import Problem
 
 
 def fit_batch(
@@ -66,27 +65,21 @@ def fit_batch(
     **Returns:** a `BatchResult`. A curve with a value outside its valid range is not fitted (NaN values,
     `success` False, a warning naming the curve and the point); the others are.
     """
-    from ._fit import starting_points
-    from ._statistics import inner_bounds
-
     t0 = time.perf_counter()
-    gaussian, fitted = resolve_prior(prior, resolve(params))
+    resolve_prior(prior, resolve(params))  # an error in the parameters or the prior is the batch's, not a curve's
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
-    dtype = jnp.result_type(1.0)
-    loads, data, bad, stated = _curves(loads, stiffness, approach, reference_load, noise, len(fitted), dtype)
-    traced, _ = prepare(scene, loads[0])
-    own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
-    if gaussian is not None:  # the prior's mean is the first start
-        own_stat[list(gaussian.index)] = gaussian.first_start
-    own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
-    u0s = jnp.asarray(starting_points(fitted, n_starts, seed, include=own), dtype)
+    observed = dict(approach=approach, reference_load=reference_load, noise=noise, prior=prior)
+    loads, problems, bad = _curves(loads, stiffness, scene, params, observed)
+    first = problems[0]
+    fitted, gaussian, traced, data = first.params, first.prior, first.traced, [p.data for p in problems]
+    u0s = jnp.asarray(first.starts(n_starts, seed), data[0].loads.dtype)
     batch = functools.partial(_run, traced, fitted, data, u0s, max_iter, tol, chunk)
     sigmas = np.ones(len(data))
     compile_time = 0.0
-    if gaussian is not None and not stated:
+    if gaussian is not None and not first.stated:
         # Each curve's noise in ln K: its residuals' scale fitted alone (`fit`'s `noise_scale`).
         alone, compile_time = batch(sigmas, None)
         sigmas = np.array(
@@ -121,41 +114,48 @@ def _run(traced, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
     return tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs)), compile_time
 
 
-def _curves(loads, stiffness, approach, reference_load, noise, p: int, dtype):
-    """`(loads, data, bad, stated)`: the loads (curves, points), each curve's `Observations` (a good
-    curve's standing in for a curve that cannot be fitted: one compiled shape), by curve why it cannot,
-    and whether every σ was stated (then the weighted residuals are in units of the noise)."""
+def _curves(loads, stiffness, scene, params, observed: dict):
+    """`(loads, problems, bad)`: the loads (curves, points), each curve's `Problem` (a good curve's
+    standing in for a curve that cannot be fitted: one compiled shape), and by curve why it cannot.
+    `observed`: the approach (curves, points), reference load (one, or one per curve), noise and prior."""
     loads = np.atleast_2d(float_array("loads", loads))
+    p = len(resolve(params))
     if loads.ndim != 2 or loads.shape[0] == 0:
         raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
     if loads.shape[1] <= p:
         raise InputError(f"{loads.shape[1]} points per curve cannot determine {p} parameters")
-    given = {k: v for k, v in (("stiffness", stiffness), ("approach", approach)) if v is not None}
+    given = {k: v for k, v in (("stiffness", stiffness), ("approach", observed["approach"])) if v is not None}
     if not given:
         raise InputError("stiffness = None and approach = None: give at least one measured curve per load")
     given = {k: np.atleast_2d(float_array(k, v)) for k, v in given.items()}
     for name, values in given.items():
         if values.shape != loads.shape:
             raise InputError(f"loads {loads.shape} and {name} {values.shape} differ in shape (curves, points)")
+    reference = observed["reference_load"]
     references = np.broadcast_to(
-        np.nan if reference_load is None else float_array("reference_load", reference_load), loads.shape[:1]
+        np.nan if reference is None else float_array("reference_load", reference), loads.shape[:1]
     )
-    bad, data, stated = _bad_points(loads, given), {}, False
+    bad, problems = _bad_points(loads, given), {}
     for c in range(loads.shape[0]):
         if c in bad:
             continue
         try:
-            reference = None if np.isnan(references[c]) else float(references[c])
-            curve = {k: v[c] for k, v in given.items()}
-            data[c], _, stated = observations(
-                loads[c], curve.get("stiffness"), curve.get("approach"), reference, noise, dtype, 1
+            problems[c] = Problem.of(
+                loads[c],
+                given["stiffness"][c] if "stiffness" in given else None,
+                scene,
+                params,
+                approach=given["approach"][c] if "approach" in given else None,
+                reference_load=None if np.isnan(references[c]) else float(references[c]),
+                noise=observed["noise"],
+                prior=observed["prior"],
             )
         except InputError as exc:
             bad[c] = f"curve {c}: {exc}"
-    if not data:
+    if not problems:
         raise InputError(f"no curve can be fitted: {bad[0]}")
-    good = next(iter(data.values()))
-    return loads, [data.get(c, good) for c in range(loads.shape[0])], bad, stated
+    good = next(iter(problems.values()))
+    return loads, [problems.get(c, good) for c in range(loads.shape[0])], bad
 
 
 def _bad_points(loads, given: dict) -> dict[int, str]:

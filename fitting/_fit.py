@@ -29,30 +29,17 @@ from jaxcontact.numerics import check_strategy, float_array
 from ._identifiability import profiles_of
 from ._observed import POINTS_MULTIPLE, observations
 from ._optimise import BFGS, METHODS, AbstractMethod, Objective, stalled
-from ._parameters import FitParameter, resolve, with_stat
-from ._prior import PriorObjective, noise_scale, resolve_prior, with_prior
+from ._parameters import resolve, with_stat
+from ._prior import PriorObjective, noise_scale, with_prior
+from ._problem import Problem
 from ._residuals import evaluated
 from ._result import FitResult
-from ._statistics import inner_bounds, rival_optima, statistics
+from ._statistics import rival_optima, statistics
 
 
 def _multiple(scene) -> int:
     """The curve's padding: `POINTS_MULTIPLE`, or none for a model that does not pad its loads."""
     return POINTS_MULTIPLE if scene.model.pad_loads else 1
-
-
-def starting_points(params, n_starts: int, seed: int, include=None) -> np.ndarray:
-    """Starts in optimiser coordinates: a Latin hypercube over 2 %…98 % of each bound (plus `include`)."""
-    rng = np.random.default_rng(seed)
-    fractions = (
-        rng.permuted(np.tile(np.arange(n_starts), (len(params), 1)), axis=1).T
-        + rng.uniform(size=(n_starts, len(params)))
-    ) / n_starts
-    fractions = 0.02 + 0.96 * fractions
-    u = np.log(fractions) - np.log1p(-fractions)
-    if include is not None:
-        u = np.vstack([np.asarray(include)[None, :], u[:-1]])
-    return u
 
 
 def fit(
@@ -119,27 +106,24 @@ def fit(
     check_strategy("method", method, AbstractMethod, METHODS, "fitting")
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 1024:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 1024]")
-    fitted: tuple[FitParameter, ...] = resolve(params)
-    gaussian, fitted = resolve_prior(prior, fitted)
-    dtype = jnp.result_type(1.0)
-    data, loads, stated = observations(loads, stiffness, approach, reference_load, noise, dtype, _multiple(scene))
-    n_values = int(data.measured[: loads.size].sum())
-    if n_values <= len(fitted):
-        raise InputError(f"{n_values} data points cannot determine {len(fitted)} parameters")
-    if np.unique(loads).size <= len(fitted):
-        raise InputError(
-            f"loads: {np.unique(loads).size} distinct values among {loads.size} points cannot determine "
-            f"{len(fitted)} parameters (a curve needs at least {len(fitted) + 1} different loads)"
-        )
+    problem = Problem.of(
+        loads,
+        stiffness,
+        scene,
+        params,
+        approach=approach,
+        reference_load=reference_load,
+        noise=noise,
+        prior=prior,
+        multiple=_multiple(scene),
+    )
+    fitted, gaussian, data, loads, stated = problem.params, problem.prior, problem.data, problem.loads, problem.stated
+    dtype = data.loads.dtype
     if tol is None:
         floor = scene.model.precision**method.precision_power
         tol = max(method.tolerance if dtype == jnp.float64 else 1e-6, floor)
-    own_stat = np.array([p.to_stat(float(p.get(scene))) for p in fitted])
-    if gaussian is not None:  # the prior's mean is the first start
-        own_stat[list(gaussian.index)] = gaussian.first_start
-    own = np.asarray([p.u_from_stat(np.clip(s, *inner_bounds(p))) for p, s in zip(fitted, own_stat)])
     if starts is None:
-        u0s = starting_points(fitted, n_starts, seed, include=own)
+        u0s = problem.starts(n_starts, seed)
     else:
         starts = np.atleast_2d(float_array("starts", starts))
         if starts.ndim != 2 or starts.shape[1] != len(fitted) or starts.shape[0] == 0:
@@ -150,7 +134,7 @@ def fit(
                 if not p.low < v < p.high:
                     raise InputError(f"starts: {p.name} = {v:g} is outside its search range ({p.low:g}, {p.high:g})")
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
-    traced_scene, _ = prepare(scene, loads)
+    traced_scene = problem.traced
     objective = Objective(traced_scene, fitted, data, loads.size, dtype)
     if gaussian is not None:
         # Stated noise is in the weights already: the weighted residuals are in units of σ.

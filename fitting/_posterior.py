@@ -21,13 +21,12 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxcontact as jc
-from jaxcontact.core import prepare
 
 from ._misfit import Misfit
 from ._nuts import run_chains
-from ._observed import observations
-from ._parameters import resolve, with_stat
-from ._prior import prior_arrays, residual_scale, resolve_prior
+from ._parameters import with_stat
+from ._prior import residual_scale
+from ._problem import Problem
 from ._residuals import Observations
 from ._statistics import inner_bounds
 
@@ -117,14 +116,6 @@ class LogDensity(eqx.Module):
         return -entries * self.misfit.loss(u) + jnp.sum(jax.nn.log_sigmoid(u) + jax.nn.log_sigmoid(-u))
 
 
-def log_density(scene, fitted, data: Observations, sigma, gaussian) -> LogDensity:
-    """The posterior's `LogDensity` of a curve (`data`) at the noise `sigma`, with the prior `gaussian`
-    or none, for `run_chains`."""
-    dtype = jnp.result_type(data.loads)
-    prior, index, kind = prior_arrays(gaussian, dtype)
-    return LogDensity(Misfit(scene, data, jnp.asarray(sigma, dtype), prior, fitted, index, kind))
-
-
 def _scale(start, data: Observations, p: int) -> float:
     """The weighted residuals' scale at the fit's optimum: its residuals (NaN where a point was not
     used), each observable's weighted back."""
@@ -174,16 +165,15 @@ def sample(
     t0 = time.perf_counter()
     observed = dict(approach=approach, reference_load=reference_load)
     start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed, **observed)
-    fitted = resolve(params)
-    gaussian, fitted = resolve_prior(prior, fitted)
-    dtype = jnp.result_type(1.0)
-    data, loads, stated = observations(loads, stiffness, approach, reference_load, noise, dtype, 1)
-    traced, _ = prepare(scene, loads)
-    sigma = 1.0 if stated else _scale(start, data, len(fitted))
-    logdensity = log_density(traced, fitted, data, sigma, gaussian)
+    problem = Problem.of(loads, stiffness, scene, params, prior=prior, noise=noise, **observed)
+    fitted, data, loads = problem.params, problem.data, problem.loads
+    sigma = 1.0 if problem.stated else _scale(start, data, len(fitted))
+    logdensity = LogDensity(problem.misfit(sigma))
     u0 = np.array([p.u_from_stat(np.clip(p.to_stat(start.values[p.name]), *inner_bounds(p))) for p in fitted])
     t1 = time.perf_counter()
-    chains_ = run_chains(logdensity, jnp.asarray(u0, dtype), chains=chains, warmup=warmup, draws=draws, seed=seed)
+    chains_ = run_chains(
+        logdensity, jnp.asarray(u0, data.loads.dtype), chains=chains, warmup=warmup, draws=draws, seed=seed
+    )
     stat = np.stack(
         [[p.stat_from_u(x) for p, x in zip(fitted, row)] for row in chains_.positions.reshape(-1, len(fitted))]
     )

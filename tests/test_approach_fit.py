@@ -203,14 +203,12 @@ def test_a_stiffness_inconsistent_with_the_approach_is_not_described(fit_curve):
 def test_the_posteriors_density_of_an_approach_curve_is_its_misfit(fit_curve):
     """`sample`'s log density for δ(F) with a stated noise σ: −½ Σ ((δ_model − δ)/σ)², δ_model from
     the public quadrature of the approach, plus the log-Jacobian of the map onto the search bounds."""
-    from jaxcontact.core import prepare
-    from jaxcontact.fitting._observed import observations
-    from jaxcontact.fitting._posterior import log_density
+    from jaxcontact.fitting._posterior import LogDensity
 
     scene, delta = fit_curve
     params, sigma, u = fitting.resolve(("D", "G")), 1e-9, np.array([0.3, -0.2])
-    data, loads, _ = observations(LOADS, None, delta, None, sigma, np.float64, 1)
-    density = float(eqx.filter_jit(log_density(prepare(scene, loads)[0], params, data, 1.0, None))(u))
+    problem = fitting.Problem.of(LOADS, None, scene, ("D", "G"), approach=delta, noise=sigma)
+    density = float(eqx.filter_jit(LogDensity(problem.misfit(1.0)))(u))
     values = tuple(p.from_stat(p.stat_from_u(x)) for p, x in zip(params, u))
     moved = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, values)
     model = np.asarray(jc.approach_quadrature(moved, LOADS, float(LOADS[0])).approach)
