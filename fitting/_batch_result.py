@@ -76,14 +76,14 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
             result, found = with_prior_of(result, e, fitted, stat, gaussian, sigma)
             information.append(found)
         for n in names:
-            values[n][c], stderr[n][c], ci95[n][c] = result["values"][n], result["stderr"][n], result["ci95"][n]
-        correlation[c] = result["correlation"]
-        determined[c] = [f.determined for f in result["identifiability"]] or False
-        usable[c] = result["usable"] and result["n_used"] > p
+            values[n][c], stderr[n][c], ci95[n][c] = result.values[n], result.stderr[n], result.ci95[n]
+        correlation[c] = result.correlation
+        determined[c] = [f.determined for f in result.identifiability] or False
+        usable[c] = result.usable and result.n_used > p
         notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
         best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
-        rivals = rival_optima(fitted, us[c], best, result, losses[c], r[c].size, result["s2"] / sigma**2)
-        warnings.append(tuple(notes + list(result["warnings"]) + rivals))
+        rivals = rival_optima(fitted, us[c], best, result.covariance, losses[c], r[c].size, result.s2 / sigma**2)
+        warnings.append(tuple(notes + list(result.warnings) + rivals))
     success = (k < max_iter) & np.isfinite(loss) & usable
     return BatchResult(
         params=tuple(names),

@@ -152,10 +152,16 @@ def fit(
         result, information = with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
     profiles = {}
     if profile:
-        profiles = profiles_of(result, fitted, traced_scene, data, loads.size, stat_hat, replace=gaussian is None)
-    success = converged and np.isfinite(losses[best]) and result["n_used"] > len(fitted) and result["usable"]
-    warnings = list(result["warnings"]) + rival_optima(
-        fitted, u_all, best, result, losses, objective.n_points, result["s2"] / (1.0 if gaussian is None else sigma**2)
+        profiles, result = profiles_of(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian is None)
+    success = converged and np.isfinite(losses[best]) and result.n_used > len(fitted) and result.usable
+    warnings = list(result.warnings) + rival_optima(
+        fitted,
+        u_all,
+        best,
+        result.covariance,
+        losses,
+        objective.n_points,
+        result.s2 / (1.0 if gaussian is None else sigma**2),
     )
     stall = stalled(objective, float(losses[best]), len(fitted))
     if stall:
@@ -168,35 +174,35 @@ def fit(
         )
     return FitResult(
         params=tuple(p.name for p in fitted),
-        values=result["values"],
-        stderr=result["stderr"],
-        ci95=result["ci95"],
-        correlation=result["correlation"],
-        covariance=result["covariance"],
-        residuals=result["residuals"],
-        flagged=result["flagged"],
+        values=result.values,
+        stderr=result.stderr,
+        ci95=result.ci95,
+        correlation=result.correlation,
+        covariance=result.covariance,
+        residuals=result.residuals,
+        flagged=result.flagged,
         success=success,
         iterations=outcomes[best].iterations,
         wall_time=time.perf_counter() - t0,
         warnings=tuple(warnings),
-        condition_number=result["condition"],
+        condition_number=result.condition,
         loss=objective.loss(u_all[best]) if gaussian is None else _data_loss(result),
         start_losses=losses,
         method=method.name,
         scene=with_stat(scene, fitted, np.asarray(stat_hat)),
-        describes_data=result["describes_data"],
-        identifiability=result["identifiability"],
+        describes_data=result.describes_data,
+        identifiability=result.identifiability,
         profiles=profiles,
         information=information,
         prior=None if gaussian is None else gaussian.source,
         observables=tuple(c.name for c in data.columns),
-        on_bound=result["bounds"],
+        on_bound=result.bounds,
     )
 
 
 def _data_loss(result) -> float:
     """½ mean r² of the curve alone (the prior's terms left out)."""
-    return 0.5 * result["rss"] / max(result["n_used"], 1)
+    return 0.5 * result.rss / max(result.n_used, 1)
 
 
 def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:

@@ -158,32 +158,34 @@ def _crossings(grid, delta, threshold, p):
     return (ends[0], ends[1]), (reached[0], reached[1])
 
 
-def profiles_of(result, fitted, scene, data, rows, stat_hat, replace: bool) -> dict:
-    """Each parameter's profile likelihood (of the curve alone); where its interval differs from the
-    parabolic one by more than 10 % of the latter's half-width on either side, and no prior enters the
-    interval (`replace`), the interval is the profile's."""
-    if not (result["describes_data"] and math.isfinite(result["s2"]) and result["s2"] > 0):
-        return {}
-    dof = result["n_used"] - len(fitted)
+def profiles_of(result, fitted, scene, data, rows, stat_hat, replace: bool) -> tuple:
+    """Each parameter's profile likelihood (of the curve alone), and the statistics `result` with the
+    profiles' warnings: where a parameter's interval differs from the parabolic one by more than 10 %
+    of the latter's half-width on either side, and no prior enters the interval (`replace`), the
+    interval is the profile's."""
+    if not (result.describes_data and math.isfinite(result.s2) and result.s2 > 0):
+        return {}, result
+    warnings, ci95 = list(result.warnings), dict(result.ci95)
+    dof = result.n_used - len(fitted)
     threshold = float(special.stdtrit(dof, 0.975)) ** 2
     profiles = {}
     for i, p in enumerate(fitted):
-        se = math.sqrt(result["covariance"][i, i]) if np.isfinite(result["covariance"][i, i]) else math.inf
+        se = math.sqrt(result.covariance[i, i]) if np.isfinite(result.covariance[i, i]) else math.inf
         if p.log:
-            se = result["stderr"][p.name] / result["values"][p.name] if np.isfinite(se) else se
-        prof = profile(scene, fitted, data, rows, stat_hat, result["s2"], i, se, threshold)
+            se = result.stderr[p.name] / result.values[p.name] if np.isfinite(se) else se
+        prof = profile(scene, fitted, data, rows, stat_hat, result.s2, i, se, threshold)
         profiles[p.name] = prof
-        lo, hi = result["ci95"][p.name]
+        lo, hi = result.ci95[p.name]
         half = (hi - lo) / 2
         for end, reached in zip(("below", "above"), prof.reached):
             if not reached:
                 bound = prof.ci95[0] if end == "below" else prof.ci95[1]
-                result["warnings"].append(
+                warnings.append(
                     f"the curve does not bound {p.name} {end}: its profile stays under the 95 % level out to "
                     f"{p.name} = {bound:.4g}, the end of its range"
                 )
         far = max(abs(prof.ci95[0] - lo), abs(prof.ci95[1] - hi)) > 0.1 * half
         if replace and far:
-            result["ci95"][p.name] = prof.ci95
-            result["warnings"].append(f"{p.name}'s interval is its profile likelihood's: the misfit is not parabolic")
-    return profiles
+            ci95[p.name] = prof.ci95
+            warnings.append(f"{p.name}'s interval is its profile likelihood's: the misfit is not parabolic")
+    return profiles, dataclasses.replace(result, warnings=tuple(warnings), ci95=ci95)

@@ -260,11 +260,11 @@ def with_prior_of(result, e, fitted, stat_hat, gaussian, sigma):
     stderr, ci95 = {}, {}
     for i, p in enumerate(fitted):
         stderr[p.name], ci95[p.name] = stderr_and_interval(p, stat_hat[i], spread[i], NORMAL_975)
-    if not result["describes_data"]:  # no interval for a model that does not describe the curve
+    if not result.describes_data:  # no interval for a model that does not describe the curve
         stderr = dict.fromkeys(stderr, math.nan)
         ci95 = dict.fromkeys(ci95, (math.nan, math.nan))
     information = {fitted[i].name: share for i, share in post["shares"].items()}
-    updated = dict(
+    updated = dataclasses.replace(
         result, covariance=covariance, stderr=stderr, ci95=ci95, correlation=covariance / np.outer(spread, spread)
     )
     return updated, information

@@ -7,6 +7,7 @@ at the optimum are left out and named.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -27,7 +28,7 @@ NOTHING_DETERMINED = "the curve determines no combination of the fitted paramete
 _SAME_OPTIMUM = 1e-4
 
 
-def rival_optima(params, u_all, best, result, losses, n_points: int, s2: float) -> list[str]:
+def rival_optima(params, u_all, best, covariance, losses, n_points: int, s2: float) -> list[str]:
     """Warn when another start ended at a clearly distinct optimum that fits almost as well.
 
     A local Gauss–Newton interval cannot describe a bimodal misfit; this model has such cases
@@ -39,7 +40,6 @@ def rival_optima(params, u_all, best, result, losses, n_points: int, s2: float) 
     the objective's residuals at the points valid at the best optimum (the constant residuals of
     flagged points are no measure of scatter).
     """
-    covariance = result["covariance"]
     if not np.all(np.isfinite(covariance)):
         return []
     stats_all = np.array([[p.stat_from_u(x) for p, x in zip(params, u)] for u in u_all])
@@ -110,7 +110,39 @@ def stderr_and_interval(q: FitParameter, stat: float, se: float, quantile: float
     return se, (max(lo, q.low), min(hi, q.high))
 
 
-def statistics(scene, params, loads, data, stat_hat) -> dict:
+@dataclasses.dataclass(frozen=True)
+class Statistics:
+    """What an optimum says (`statistics_of`), before a driver adds how its search went.
+
+    **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name, physical units); `covariance` and
+    `correlation` (statistical coordinates); `condition` (of the scaled Gauss–Newton matrix);
+    `warnings`; `flagged` (indices of the loads with a point outside the model); `residuals` (in each
+    observable's units, NaN where not used); `n_used` (residual entries used); `describes_data`;
+    `usable` (on no search bound, and some combination determined); `bounds` (the on-bound warnings);
+    `identifiability` (the Fisher combinations); `s2` (the residuals' variance Σr²/(N − p)); `used`
+    (mask of the entries used); `rss` (Σr² over them).
+    """
+
+    values: dict
+    stderr: dict
+    ci95: dict
+    covariance: np.ndarray
+    correlation: np.ndarray
+    condition: float
+    warnings: tuple[str, ...]
+    flagged: np.ndarray
+    residuals: np.ndarray
+    n_used: int
+    describes_data: bool
+    usable: bool
+    bounds: tuple[str, ...]
+    identifiability: tuple
+    s2: float
+    used: np.ndarray
+    rss: float
+
+
+def statistics(scene, params, loads, data, stat_hat) -> Statistics:
     """Gauss–Newton covariance, intervals, correlations and identifiability warnings at the optimum
     `stat_hat`, from the fit's compiled residuals (`statistics_of`).
 
@@ -119,7 +151,7 @@ def statistics(scene, params, loads, data, stat_hat) -> dict:
     return statistics_of(evaluated(stat_hat, scene, params, data, loads.size), params, loads, data, stat_hat)
 
 
-def statistics_of(e: Evaluated, params, loads, data, stat_hat) -> dict:
+def statistics_of(e: Evaluated, params, loads, data, stat_hat) -> Statistics:
     """What `statistics` gives, from the residuals and Jacobian `e` at the optimum `stat_hat`: the one
     place where an optimum becomes covariance, intervals, identifiability and warnings (`fit` and
     `fit_batch` both end here)."""
@@ -186,14 +218,14 @@ def statistics_of(e: Evaluated, params, loads, data, stat_hat) -> dict:
     # In each observable's own units (ln K, m): the weights undone.
     residuals = np.where(e.used, e.r, np.nan).reshape(loads.size, columns) / np.asarray(data.weights)
     residuals = residuals[:, 0] if columns == 1 else residuals
-    return dict(
+    return Statistics(
         values=values,
         stderr=stderr,
         ci95=ci95,
         covariance=covariance,
         correlation=correlation,
         condition=condition,
-        warnings=warnings,
+        warnings=tuple(warnings),
         flagged=flagged,
         residuals=residuals,
         n_used=n,

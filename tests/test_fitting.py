@@ -480,9 +480,8 @@ def test_a_rivals_delta_chi2_is_measured_in_the_loss_the_starts_were_ranked_by()
 
     params = resolve(("D", "G"))
     u_all = np.array([[p.u_from_stat(s) for p, s in zip(params, stat)] for stat in ([1.4, -23.0], [1.6, -23.0])])
-    result = {"covariance": np.diag([1e-4, 1e-2])}
     losses = np.array([0.010, 0.0101])
-    warnings = rival_optima(params, u_all, 0, result, losses, 30, s2=0.001)
+    warnings = rival_optima(params, u_all, 0, np.diag([1e-4, 1e-2]), losses, 30, s2=0.001)
     assert "(Δχ² = 6.00)" in warnings[0]
 
 
