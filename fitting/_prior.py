@@ -14,17 +14,18 @@ import dataclasses
 import math
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import gammaln as jax_gammaln
 
 from jaxcontact import InputError
 from jaxcontact.numerics import float_array
 from jaxcontact.topography import AbstractMeasurementKind, Characterisation
 
+from ._compiled import compiled
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
-from ._spectral_prior import decorrelated, spectral_coordinates, spectral_jacobian
+from ._spectral_prior import decorrelated, spectral_coordinates
 from ._statistics import NORMAL_975, stderr_and_interval
 
 # Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
@@ -55,25 +56,27 @@ class GaussianPrior:
     def first_start(self) -> np.ndarray:
         return self.mean if self.start is None else self.start
 
-    def value_and_jacobian(self, stat) -> tuple[np.ndarray, np.ndarray]:
-        """`φ(θ)`, the prior's coordinates of the statistical ones `stat` (its own parameters), and `∂φ/∂θ`."""
-        stat = np.asarray(stat, dtype=float)
-        if self.kind is None:
-            return stat, np.eye(stat.size)
-        value = spectral_coordinates(self.kind, self.log_q, *stat)
-        return np.asarray(value, dtype=float), spectral_jacobian(self.kind, self.log_q, *stat)
-
-    def stat_precision(self, stat) -> np.ndarray:
-        """`∂φᵀ Σ_p⁻¹ ∂φ` at `stat` (the prior's own parameters): its precision in statistical coordinates."""
-        _, jacobian = self.value_and_jacobian(stat)
-        return jacobian.T @ np.linalg.solve(self.covariance, jacobian)
+    def linearised(self, stat_all) -> tuple[np.ndarray, np.ndarray]:
+        """The prior's residuals `L⁻¹ (φ(θ) − μ)` at all the fitted parameters' statistical coordinates
+        `stat_all`, and their Jacobian (zero in the columns of parameters without a prior): the traced
+        prior's (`traced_residuals`, the one the compiled programs run) and its forward-mode derivative,
+        compiled once per prior's structure."""
+        arrays, index, kind = prior_arrays(self, jnp.result_type(1.0))
+        run, dynamic, _ = compiled(_linearised, arrays, jnp.asarray(stat_all, arrays[0].dtype), index, kind)
+        return tuple(np.asarray(x, dtype=float) for x in run(dynamic))
 
     def precision(self, stat_all) -> np.ndarray:
-        """The statistical precision at `stat_all` embedded among all fitted parameters (zero where no prior)."""
-        n = len(stat_all)
-        full = np.zeros((n, n))
-        full[np.ix_(self.index, self.index)] = self.stat_precision(np.asarray(stat_all, dtype=float)[list(self.index)])
-        return full
+        """`∂φᵀ Σ_p⁻¹ ∂φ` at `stat_all`: the prior's precision in statistical coordinates, among all the
+        fitted parameters (zero where no prior)."""
+        J = self.linearised(stat_all)[1]
+        return J.T @ J
+
+
+def _linearised(arrays, stat, index, kind):
+    def residuals(s):
+        return traced_residuals(index, kind, *arrays, s)
+
+    return residuals(stat), jax.jacfwd(residuals)(stat)
 
 
 def _characterisation_prior(c, fitted) -> GaussianPrior:
@@ -177,17 +180,13 @@ class PriorObjective(AbstractObjective):
 
     def __init__(self, base: AbstractObjective, prior: GaussianPrior, sigma: float):
         self.base, self.params, self.n_points, self.settle = base, base.params, base.n_points, base.settle
-        self.prior, self.sigma, self._root = prior, sigma, prior.root
+        self.prior, self.sigma = prior, sigma
 
     def residuals(self, u):
         r, J = self.base(u)
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, np.asarray(u, dtype=float))))
-        index = list(self.prior.index)
-        value, jacobian = self.prior.value_and_jacobian(np.asarray(stat)[index])
-        r_prior = self._root @ (value - self.prior.mean)
-        J_prior = np.zeros((len(index), len(self.params)))
-        J_prior[:, index] = self._root @ jacobian * np.asarray(slope)[index]
-        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior])
+        r_prior, J_prior = self.prior.linearised(np.asarray(stat))
+        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior * np.asarray(slope)])
 
 
 def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior, stat_hat) -> dict:
@@ -196,8 +195,9 @@ def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior, stat_hat) -> di
     the curve's share `1 − var_both / var_prior`."""
     n = J.shape[1]
     curve = J.T @ J / sigma**2
-    covariance = np.linalg.inv(curve + prior.precision(stat_hat))
-    prior_covariance = np.linalg.inv(prior.stat_precision(np.asarray(stat_hat, dtype=float)[list(prior.index)]))
+    precision = prior.precision(stat_hat)
+    covariance = np.linalg.inv(curve + precision)
+    prior_covariance = np.linalg.inv(precision[np.ix_(prior.index, prior.index)])
     with np.errstate(divide="ignore", invalid="ignore"):
         curve_alone = np.sqrt(np.diag(np.linalg.pinv(curve)))
     shares = {}
@@ -234,7 +234,7 @@ def traced_residuals(index: tuple[int, ...], kind, root, mean, log_q, stat):
     arrays) at all the fitted parameters' statistical coordinates `stat`, as a JAX function: inside a
     compiled program (`fit_batch`'s loss, `sample`'s log density)."""
     chosen = stat[jnp.asarray(index)]
-    phi = chosen if kind is None else jnp.stack(spectral_coordinates(kind, log_q, *chosen, jax_gammaln))
+    phi = chosen if kind is None else jnp.stack(spectral_coordinates(kind, log_q, *chosen))
     return root @ (phi - mean)
 
 

@@ -8,13 +8,13 @@ stiffness curve's ridge at a point far from the truth, with a confident, wrong p
 is therefore stated in the fit's own coordinates, decorrelated: the slope, and `ln C` at the
 wavevector where its error is independent of the slope's (`q_ref`), each a smooth function of
 (D, ln G) (the measurement kind's `spectral_slope` and `log_prefactor`), and the Laplace covariance
-linearises it at the optimum.
+linearises it at the optimum (JAX's derivative of these functions, `_prior`).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy import special
+from jax.scipy.special import gammaln
 
 
 def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:
@@ -26,14 +26,8 @@ def decorrelated(power_law) -> tuple[np.ndarray, np.ndarray, float]:
     return np.array([slope, intercept + slope * log_q]), to_ref @ covariance @ to_ref.T, float(log_q)
 
 
-def spectral_coordinates(kind, log_q: float, D, log_G, gammaln=special.gammaln):
+def spectral_coordinates(kind, log_q, D, log_G):
     """(slope, ln C(q_ref)) of the W-M surface (D, ln G) in the spectrum of `kind` (a
-    `topography.AbstractMeasurementKind`): `gammaln` from scipy, or from JAX in a traced density."""
+    `topography.AbstractMeasurementKind`), as a JAX function of traced D and ln G."""
     slope = kind.spectral_slope(D)
     return slope, kind.log_prefactor(D, log_G, gammaln) + slope * log_q
-
-
-def spectral_jacobian(kind, log_q: float, D: float, log_G: float) -> np.ndarray:
-    """∂(slope, ln C(q_ref)) / ∂(D, ln G)."""
-    d_intercept = kind.d_log_prefactor_dD(D, log_G)
-    return np.array([[2.0, 0.0], [d_intercept + 2.0 * log_q, 2.0 * (D - 1.0)]])

@@ -9,7 +9,6 @@ map with those line scans has `C2D(q) = C0 q^-(6-2D)`, `C0 = K1 · 2 √π Γ(3-
 from __future__ import annotations
 
 import abc
-import math
 import typing
 from typing import ClassVar
 
@@ -18,11 +17,6 @@ import numpy as np
 from scipy import special
 
 from ..physics._spectrum import log_areal_prefactor, log_profile_prefactor
-
-
-def _d_log_profile_prefactor_dD(log_G):
-    """∂ ln K1 / ∂D at fixed ln G (`log_profile_prefactor`)."""
-    return 2 * log_G - 2 * math.log(2 * math.pi)
 
 
 class AbstractKind(eqx.Module):
@@ -53,10 +47,6 @@ class AbstractMeasurementKind(AbstractKind):
     def log_prefactor(self, D, log_G, gammaln=special.gammaln):
         """ln of the W-M spectrum's prefactor for (D, ln G): linear in ln G, with slope 2 (D − 1).
         `gammaln` may be JAX's, for a traced D."""
-
-    @abc.abstractmethod
-    def d_log_prefactor_dD(self, D, log_G):
-        """∂ ln prefactor / ∂D at fixed ln G."""
 
     @abc.abstractmethod
     def heights(self, rows: np.ndarray) -> np.ndarray:
@@ -90,9 +80,6 @@ class Profile(AbstractMeasurementKind):
     def log_prefactor(self, D, log_G, gammaln=special.gammaln):
         return log_profile_prefactor(D, log_G)
 
-    def d_log_prefactor_dD(self, D, log_G):
-        return _d_log_profile_prefactor_dD(log_G)
-
     def heights(self, rows):
         return rows[0]
 
@@ -115,9 +102,6 @@ class Areal(AbstractMeasurementKind):
 
     def log_prefactor(self, D, log_G, gammaln=special.gammaln):
         return log_areal_prefactor(D, log_G, gammaln)
-
-    def d_log_prefactor_dD(self, D, log_G):
-        return _d_log_profile_prefactor_dD(log_G) - special.digamma(3 - D) + special.digamma(2.5 - D)
 
     def heights(self, rows):
         return rows.T
