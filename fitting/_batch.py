@@ -88,7 +88,7 @@ def fit_batch(
     outcome, seconds = batch(sigmas, gaussian)
     wall_time = time.perf_counter() - t0
     result = batch_statistics(
-        fitted, loads, data, outcome, max_iter, wall_time, compile_time + seconds, gaussian, sigmas
+        scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time + seconds, gaussian, sigmas
     )
     return without(result, bad)
 

@@ -7,8 +7,10 @@ import dataclasses
 
 import numpy as np
 
+from ._parameters import with_stat
 from ._prior import with_prior_of
 from ._residuals import Evaluated
+from ._result import FitResult
 from ._statistics import rival_optima, statistics_of
 
 
@@ -22,7 +24,9 @@ class BatchResult:
     Fisher combination is determined), `warnings` (a tuple of strings per curve), `wall_time` (s,
     compilation included), `compile_time` (0 where a batch of the same shape was compiled before in
     this process); with a prior, `information` (per curve, `fit`'s report by parameter of where its
-    interval's information came from) and `prior` (where the prior came from)."""
+    interval's information came from) and `prior` (where the prior came from); `fits` (per curve, the
+    `FitResult` that `fit` returns, built from the same statistics: its `summary()`, its fitted
+    `scene`; None for a curve that was not fitted)."""
 
     params: tuple[str, ...]
     values: dict
@@ -39,9 +43,12 @@ class BatchResult:
     compile_time: float
     information: tuple = ()
     prior: str | None = None
+    fits: tuple = ()
 
 
-def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_time, gaussian=None, sigmas=None):
+def batch_statistics(
+    scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time, gaussian=None, sigmas=None
+):
     """Per curve (`data`: each one's `Observations`), `statistics_of` at its optimum `u` (optimiser
     coordinates) from the program's residuals `r`, valid mask `ok`, statuses and Jacobian `J` (each
     (curves, points, ...)), with L-BFGS's step count `k` and the loss: the values, intervals,
@@ -59,7 +66,7 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
     correlation = np.full((curves, p, p), np.nan)
     determined = np.zeros((curves, p), bool)
     usable = np.zeros(curves, bool)
-    warnings, information = [], []
+    warnings, information, fits = [], [], []
     for c in range(curves):
         stat = np.array([q.stat_from_u(x) for q, x in zip(fitted, u[c])])
         e = Evaluated(
@@ -84,6 +91,27 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
         best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
         rivals = rival_optima(fitted, us[c], best, result.covariance, losses[c], r[c].size, result.s2 / sigma**2)
         warnings.append(tuple(notes + list(result.warnings) + rivals))
+        measured, r_c = data[c].measured.reshape(-1), r[c].reshape(-1)
+        fits.append(
+            FitResult.of(
+                result,
+                fitted,
+                with_stat(scene, fitted, stat),
+                prior=gaussian,
+                success=bool(k[c] < max_iter and np.isfinite(loss[c]) and usable[c]),
+                iterations=int(k[c]),
+                wall_time=wall_time,
+                warnings=warnings[-1],
+                # As `fit` reports it: ½ mean square over the measured values (of the curve alone, with a prior).
+                loss=0.5 * float(r_c[measured] @ r_c[measured]) / max(measured.sum(), 1)
+                if gaussian is None
+                else result.curve_loss,
+                start_losses=np.asarray(losses[c], dtype=float),
+                method="optax L-BFGS",
+                information=information[-1] if gaussian is not None else {},
+                observables=tuple(col.name for col in data[c].columns),
+            )
+        )
     success = (k < max_iter) & np.isfinite(loss) & usable
     return BatchResult(
         params=tuple(names),
@@ -101,6 +129,7 @@ def batch_statistics(fitted, loads, data, outcome, max_iter, wall_time, compile_
         compile_time=compile_time,
         information=tuple(information),
         prior=None if gaussian is None else gaussian.source,
+        fits=tuple(fits),
     )
 
 
@@ -118,6 +147,7 @@ def without(result: BatchResult, bad: dict[int, str]) -> BatchResult:
     flagged, determined = result.flagged.copy(), result.determined.copy()
     flagged[rows], determined[rows] = True, False
     warnings = tuple((f"{bad[c]}: the curve was not fitted",) if c in bad else w for c, w in enumerate(result.warnings))
+    fits = tuple(None if c in bad else f for c, f in enumerate(result.fits))
     return dataclasses.replace(
         result,
         values=values,
@@ -129,4 +159,5 @@ def without(result: BatchResult, bad: dict[int, str]) -> BatchResult:
         flagged=flagged,
         determined=determined,
         warnings=warnings,
+        fits=fits,
     )

@@ -172,37 +172,22 @@ def fit(
         warnings.insert(
             0, f"the best start did not converge ({outcomes[best].iterations} iterations, at most {max_iter})"
         )
-    return FitResult(
-        params=tuple(p.name for p in fitted),
-        values=result.values,
-        stderr=result.stderr,
-        ci95=result.ci95,
-        correlation=result.correlation,
-        covariance=result.covariance,
-        residuals=result.residuals,
-        flagged=result.flagged,
+    return FitResult.of(
+        result,
+        fitted,
+        with_stat(scene, fitted, np.asarray(stat_hat)),
+        prior=gaussian,
         success=success,
         iterations=outcomes[best].iterations,
         wall_time=time.perf_counter() - t0,
         warnings=tuple(warnings),
-        condition_number=result.condition,
-        loss=objective.loss(u_all[best]) if gaussian is None else _data_loss(result),
+        loss=objective.loss(u_all[best]) if gaussian is None else result.curve_loss,
         start_losses=losses,
         method=method.name,
-        scene=with_stat(scene, fitted, np.asarray(stat_hat)),
-        describes_data=result.describes_data,
-        identifiability=result.identifiability,
         profiles=profiles,
         information=information,
-        prior=None if gaussian is None else gaussian.source,
         observables=tuple(c.name for c in data.columns),
-        on_bound=result.bounds,
     )
-
-
-def _data_loss(result) -> float:
-    """½ mean r² of the curve alone (the prior's terms left out)."""
-    return 0.5 * result.rss / max(result.n_used, 1)
 
 
 def model_stiffness(scene: jc.Scene, params, loads) -> np.ndarray:

@@ -11,6 +11,43 @@ import jaxcontact as jc
 
 
 @dataclasses.dataclass(frozen=True)
+class Statistics:
+    """What an optimum says (`statistics_of`), before a driver adds how its search went.
+
+    **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name, physical units); `covariance` and
+    `correlation` (statistical coordinates); `condition` (of the scaled Gauss–Newton matrix);
+    `warnings`; `flagged` (indices of the loads with a point outside the model); `residuals` (in each
+    observable's units, NaN where not used); `n_used` (residual entries used); `describes_data`;
+    `usable` (on no search bound, and some combination determined); `bounds` (the on-bound warnings);
+    `identifiability` (the Fisher combinations); `s2` (the residuals' variance Σr²/(N − p)); `used`
+    (mask of the entries used); `rss` (Σr² over them).
+    """
+
+    values: dict
+    stderr: dict
+    ci95: dict
+    covariance: np.ndarray
+    correlation: np.ndarray
+    condition: float
+    warnings: tuple[str, ...]
+    flagged: np.ndarray
+    residuals: np.ndarray
+    n_used: int
+    describes_data: bool
+    usable: bool
+    bounds: tuple[str, ...]
+    identifiability: tuple
+    s2: float
+    used: np.ndarray
+    rss: float
+
+    @property
+    def curve_loss(self) -> float:
+        """½ mean r² over the used entries (the curve alone: a prior's terms left out)."""
+        return 0.5 * self.rss / max(self.n_used, 1)
+
+
+@dataclasses.dataclass(frozen=True)
 class FitResult:
     """Estimates, their uncertainty, and how the fit went.
 
@@ -60,6 +97,30 @@ class FitResult:
     prior: str | None = None
     observables: tuple[str, ...] = ("stiffness",)
     on_bound: tuple[str, ...] = ()
+
+    @classmethod
+    def of(cls, stats, params, scene: jc.Scene, *, prior=None, **run) -> FitResult:
+        """The result of an optimum's statistics `stats` (a `Statistics`), the fitted `params`, the fitted
+        `scene`, the `prior` (a `GaussianPrior` or None) and how the search went (`run`: `success`,
+        `iterations`, `wall_time`, `warnings`, `loss`, `start_losses`, `method`, `observables`, and
+        `profiles` and `information` where there are any): `fit`'s, and each of `fit_batch`'s curves'."""
+        return cls(
+            params=tuple(p.name for p in params),
+            values=stats.values,
+            stderr=stats.stderr,
+            ci95=stats.ci95,
+            correlation=stats.correlation,
+            covariance=stats.covariance,
+            residuals=stats.residuals,
+            flagged=stats.flagged,
+            condition_number=stats.condition,
+            scene=scene,
+            describes_data=stats.describes_data,
+            identifiability=stats.identifiability,
+            prior=None if prior is None else prior.source,
+            on_bound=stats.bounds,
+            **run,
+        )
 
     def summary(self) -> str:
         lines = [

@@ -7,7 +7,6 @@ at the optimum are left out and named.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -19,6 +18,7 @@ from ._identifiability import combinations, report
 from ._optimise import gauss_newton
 from ._parameters import FitParameter
 from ._residuals import Evaluated, evaluated
+from ._result import Statistics
 
 # A curve that fixes no combination of the parameters has measured none of them (e.g. pure noise):
 # its optimum is wherever the noise put it, and the fit is not a success.
@@ -108,38 +108,6 @@ def stderr_and_interval(q: FitParameter, stat: float, se: float, quantile: float
     if q.log:
         return value * se, (lo, hi)
     return se, (max(lo, q.low), min(hi, q.high))
-
-
-@dataclasses.dataclass(frozen=True)
-class Statistics:
-    """What an optimum says (`statistics_of`), before a driver adds how its search went.
-
-    **Fields:** `values`, `stderr`, `ci95` (dicts by parameter name, physical units); `covariance` and
-    `correlation` (statistical coordinates); `condition` (of the scaled Gauss–Newton matrix);
-    `warnings`; `flagged` (indices of the loads with a point outside the model); `residuals` (in each
-    observable's units, NaN where not used); `n_used` (residual entries used); `describes_data`;
-    `usable` (on no search bound, and some combination determined); `bounds` (the on-bound warnings);
-    `identifiability` (the Fisher combinations); `s2` (the residuals' variance Σr²/(N − p)); `used`
-    (mask of the entries used); `rss` (Σr² over them).
-    """
-
-    values: dict
-    stderr: dict
-    ci95: dict
-    covariance: np.ndarray
-    correlation: np.ndarray
-    condition: float
-    warnings: tuple[str, ...]
-    flagged: np.ndarray
-    residuals: np.ndarray
-    n_used: int
-    describes_data: bool
-    usable: bool
-    bounds: tuple[str, ...]
-    identifiability: tuple
-    s2: float
-    used: np.ndarray
-    rss: float
 
 
 def statistics(scene, params, loads, data, stat_hat) -> Statistics:

@@ -58,6 +58,20 @@ def test_the_batch_warns_as_the_fit_warns(batch, one_by_one):
     assert batch.warnings == tuple(tuple(r.warnings) for r in one_by_one)
 
 
+def test_each_curves_fit_result_reports_the_fits_loss(batch, one_by_one):
+    """`BatchResult.fits`: per curve the `FitResult` that `fit` returns, its loss as `fit` measures it."""
+    np.testing.assert_allclose([f.loss for f in batch.fits], [r.loss for r in one_by_one], rtol=1e-6)
+
+
+def test_each_curves_fit_result_holds_its_fitted_scene(batch):
+    assert [float(f.scene.surface.D) for f in batch.fits] == list(batch.values["D"])
+
+
+def test_each_curves_fit_result_summarises_its_fit(batch, one_by_one):
+    """The summary's parameter lines (the first line says how each search went, which differs)."""
+    assert batch.fits[0].summary().splitlines()[1:] == one_by_one[0].summary().splitlines()[1:]
+
+
 def test_every_curve_converges(batch):
     assert batch.success.all()
 
@@ -96,6 +110,10 @@ def mixed(curves, batch):
     K[2] = 10 ** np.random.default_rng(5).uniform(8, 11, K.shape[1])
     K[4, 7] = -1.0
     return fitting.fit_batch(loads, K, make_scene(**START), n_starts=4)
+
+
+def test_a_curve_that_was_not_fitted_has_no_fit_result(mixed):
+    assert mixed.fits[4] is None
 
 
 def test_a_pure_noise_curve_among_good_ones_is_not_a_success(mixed):
