@@ -15,7 +15,7 @@ import math
 import numpy as np
 from scipy import optimize, special
 
-from ._residuals import evaluated
+from ._residuals import bound_program, evaluated_by
 
 # A combination whose 95 % interval spans more than this share of its extent within the bounds is
 # not determined by the curve.
@@ -99,13 +99,13 @@ def profile(scene, params, data, rows: int, stat_hat, s2: float, index: int, std
         stat[others] = rest
         return stat
 
-    last = {}
+    last, program, measured = {}, bound_program(scene, params, data), data.measured[:rows].reshape(-1)
 
     def evaluate(stat):
         # scipy asks for the residuals and then the Jacobian at the same point: one program call serves both.
         key = stat.tobytes()
         if key not in last:
-            e = evaluated(stat, scene, params, data, rows)
+            e = evaluated_by(program, stat, rows, measured)
             last.clear()
             last[key] = (e.r, e.J[:, others])
         return last[key]

@@ -22,7 +22,7 @@ import numpy as np
 from scipy import optimize
 
 from ._parameters import FitParameter
-from ._residuals import Observations, evaluated
+from ._residuals import Observations, bound_program, evaluated_by
 
 # A model of finite precision (K moving in steps, a grid point of contact at a time) has a loss with
 # kinks and a Jacobian that jumps at each: the loss's progress cannot end its fits (BFGS's line
@@ -95,13 +95,14 @@ class Objective(AbstractObjective):
         self.n_points = int(data.measured[:rows].sum())
         self.settle = 0.0 if scene.model.precision == 0 else SETTLED_STEPPED
         self._last = None
+        self._program, self._measured = bound_program(scene, params, data), data.measured[:rows].reshape(-1)
 
     def residuals(self, u) -> tuple[np.ndarray, np.ndarray]:
         u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
         if self._last is not None and np.array_equal(self._last[0], u):
             return self._last[1]
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
-        e = evaluated(np.asarray(stat, self.dtype), self.scene, self.params, self.data, self.rows)
+        e = evaluated_by(self._program, stat, self.rows, self._measured)
         r, J = e.r.astype(float), e.J.astype(float) * np.asarray(slope)
         self._last = (u, (r, J))
         return r, J

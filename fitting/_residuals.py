@@ -83,10 +83,17 @@ def residuals_and_jacobian(stat, scene, params, data: Observations):
 
     `scene` must have array leaves of one dtype (`jaxcontact.core.prepare`).
     """
+    return bound_program(scene, params, data)(stat)
+
+
+def bound_program(scene, params, data: Observations):
+    """`stat ↦ residuals_and_jacobian(stat, scene, params, data)`, the scene and data flattened once:
+    an optimiser's hundreds of evaluations of one curve pay for that once."""
     leaves, treedef = jax.tree_util.tree_flatten(scene)
     data_leaves, data_def = jax.tree_util.tree_flatten(data)
-    args = (np.asarray(stat, data.loads.dtype), leaves, data_leaves)
-    key = (treedef, data_def, params, tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves(args)))
+    dtype = data.loads.dtype
+    shapes = tuple((x.shape, x.dtype) for x in jax.tree_util.tree_leaves((leaves, data_leaves)))
+    key = (treedef, data_def, params, dtype, shapes)
     if key not in _PROGRAMS:
 
         def flat(stat, leaves, data_leaves):
@@ -101,8 +108,10 @@ def residuals_and_jacobian(stat, scene, params, data: Observations):
             return r, ok, status, J
 
         static = f"fitting {[p.name for p in params]} {[c.name for c in data.columns]}"
+        args = (np.zeros(len(params), dtype), leaves, data_leaves)
         _PROGRAMS[key] = programs.program("residuals_and_jacobian", static, flat, args, closed_over=(treedef, data_def))
-    return _PROGRAMS[key](*args)
+    program = _PROGRAMS[key]
+    return lambda stat: program(np.asarray(stat, dtype), leaves, data_leaves)
 
 
 class Evaluated(NamedTuple):
@@ -121,10 +130,13 @@ class Evaluated(NamedTuple):
 
 
 def evaluated(stat, scene, params, data: Observations, rows: int) -> Evaluated:
-    r, ok, status, J = (np.asarray(x)[:rows] for x in residuals_and_jacobian(stat, scene, params, data))
-    return Evaluated(
-        r.reshape(-1), ok.reshape(-1), status.reshape(-1), J.reshape(r.size, -1), data.measured[:rows].reshape(-1)
-    )
+    return evaluated_by(bound_program(scene, params, data), stat, rows, data.measured[:rows].reshape(-1))
+
+
+def evaluated_by(program, stat, rows: int, measured: np.ndarray) -> Evaluated:
+    """`evaluated` by a `bound_program`, with the curve's `measured` mask (its first `rows` loads)."""
+    r, ok, status, J = (np.asarray(x)[:rows] for x in program(stat))
+    return Evaluated(r.reshape(-1), ok.reshape(-1), status.reshape(-1), J.reshape(r.size, -1), measured)
 
 
 # Built programs, by scene structure, fitted parameters, observables and argument shapes.
