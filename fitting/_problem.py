@@ -92,7 +92,8 @@ class Problem:
     def misfit(self, sigma: float = 1.0) -> Misfit:
         """The problem's JAX residual function at the noise scale `sigma` (its curve's weighted
         residuals over σ, and the prior's): `loss(u)` (½ Σ r² over the curve's entries, r in units
-        of σ; its gradient exact), `value_and_grad(u)`, and `evaluate(u)` (residuals, valid mask,
+        of σ; its gradient exact, by `jax.grad`: the loss defines no forward-mode derivative, and its
+        Gauss–Newton curvature is `evaluate`'s Jacobian), `value_and_grad(u)`, and `evaluate(u)` (residuals, valid mask,
         statuses and Jacobians), in optimiser coordinates `u`; `fit_batch` and `sample` run on it,
         and any JAX optimiser can (it is an `eqx.Module`: compile its methods with `eqx.filter_jit`)."""
         data, n = self.data, self.loads.size
