@@ -11,7 +11,7 @@ import jax.numpy as jnp
 
 from ._parameters import stat_of_u
 from ._prior import traced_residuals
-from ._residuals import Observations, observed_residuals
+from ._residuals import Observations, linearised_residuals
 
 
 class Misfit(eqx.Module):
@@ -60,13 +60,9 @@ class Misfit(eqx.Module):
     def evaluate(self, u):
         """`(r, ok, status, J)` of the curve at `u`, `J = ∂r/∂stat`, and the prior's residuals and Jacobian."""
 
-        def residuals(stat):
-            r, ok, status = observed_residuals(stat, self.scene, self.fitted, self.data)
-            return r, (r, ok, status)
-
         stat = stat_of_u(self.fitted, u)
-        J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
-        return r, ok, status, J, self.prior_residuals(stat), jax.jacfwd(self.prior_residuals)(stat)
+        found = linearised_residuals(stat, self.scene, self.fitted, self.data)
+        return *found, self.prior_residuals(stat), jax.jacfwd(self.prior_residuals)(stat)
 
     def linearised(self, u, found):
         """The misfit's residual vector at `u` (the curve's over σ, 0 where a point is flagged or not

@@ -76,6 +76,18 @@ def observed_residuals(stat, scene, params, data: Observations):
     return r, ok, status
 
 
+def linearised_residuals(stat, scene, params, data: Observations):
+    """`(r, ok, status, J)`: `observed_residuals` at `stat` and their forward-mode Jacobian `∂r/∂stat`
+    over the few parameters, as a JAX function (the fit's compiled program and the batch's misfit)."""
+
+    def residuals(s):
+        r, ok, status = observed_residuals(s, scene, params, data)
+        return r, (r, ok, status)
+
+    J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
+    return r, ok, status, J
+
+
 def residuals_and_jacobian(stat, scene, params, data: Observations):
     """Residuals, valid mask, status (each (load, column)) and d(residual)/d(stat) at `stat`: the fit's
     one compiled program (per scene structure, fitted parameters, observables, dtype and number of
@@ -98,14 +110,7 @@ def bound_program(scene, params, data: Observations):
 
         def flat(stat, leaves, data_leaves):
             scene = jax.tree_util.tree_unflatten(treedef, leaves)
-            data = jax.tree_util.tree_unflatten(data_def, data_leaves)
-
-            def residuals(s):
-                r, ok, status = observed_residuals(s, scene, params, data)
-                return r, (r, ok, status)
-
-            J, (r, ok, status) = jax.jacfwd(residuals, has_aux=True)(stat)
-            return r, ok, status, J
+            return linearised_residuals(stat, scene, params, jax.tree_util.tree_unflatten(data_def, data_leaves))
 
         static = f"fitting {[p.name for p in params]} {[c.name for c in data.columns]}"
         args = (np.zeros(len(params), dtype), leaves, data_leaves)
