@@ -11,6 +11,7 @@ scale of the curve fitted alone), and the posterior covariance is `(JᵀJ/σ² +
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import equinox as eqx
@@ -22,7 +23,6 @@ from jaxcontact import InputError
 from jaxcontact.numerics import float_array
 from jaxcontact.topography import AbstractMeasurementKind, Characterisation
 
-from ._compiled import compiled
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
 from ._spectral_prior import decorrelated, spectral_coordinates
@@ -59,11 +59,8 @@ class GaussianPrior:
     def linearised(self, stat_all) -> tuple[np.ndarray, np.ndarray]:
         """The prior's residuals `L⁻¹ (φ(θ) − μ)` at all the fitted parameters' statistical coordinates
         `stat_all`, and their Jacobian (zero in the columns of parameters without a prior): the traced
-        prior's (`traced_residuals`, the one the compiled programs run) and its forward-mode derivative,
-        compiled once per prior's structure."""
-        arrays, index, kind = prior_arrays(self, jnp.result_type(1.0))
-        run, dynamic, _ = compiled(_linearised, arrays, jnp.asarray(stat_all, arrays[0].dtype), index, kind)
-        return tuple(np.asarray(x, dtype=float) for x in run(dynamic))
+        prior's (`traced_residuals`, the one the compiled programs run) and its forward-mode derivative."""
+        return linearised_at(prior_arrays(self, jnp.result_type(1.0)), stat_all)
 
     def precision(self, stat_all) -> np.ndarray:
         """`∂φᵀ Σ_p⁻¹ ∂φ` at `stat_all`: the prior's precision in statistical coordinates, among all the
@@ -72,11 +69,20 @@ class GaussianPrior:
         return J.T @ J
 
 
+@functools.partial(jax.jit, static_argnums=(2, 3))
 def _linearised(arrays, stat, index, kind):
     def residuals(s):
         return traced_residuals(index, kind, *arrays, s)
 
     return residuals(stat), jax.jacfwd(residuals)(stat)
+
+
+def linearised_at(parts, stat_all) -> tuple[np.ndarray, np.ndarray]:
+    """`GaussianPrior.linearised` from the prior's `prior_arrays` (`parts`), made once by a caller
+    that evaluates it often."""
+    arrays, index, kind = parts
+    found = _linearised(arrays, jnp.asarray(stat_all, arrays[0].dtype), index, kind)
+    return tuple(np.asarray(x, dtype=float) for x in found)
 
 
 def _characterisation_prior(c, fitted) -> GaussianPrior:
@@ -181,12 +187,19 @@ class PriorObjective(AbstractObjective):
     def __init__(self, base: AbstractObjective, prior: GaussianPrior, sigma: float):
         self.base, self.params, self.n_points, self.settle = base, base.params, base.n_points, base.settle
         self.prior, self.sigma = prior, sigma
+        self._parts, self._last = prior_arrays(prior, jnp.result_type(1.0)), None
 
     def residuals(self, u):
+        u = np.array(u, dtype=float)
+        # scipy asks for the residuals and then the Jacobian at the same point: one evaluation serves both.
+        if self._last is not None and np.array_equal(self._last[0], u):
+            return self._last[1]
         r, J = self.base(u)
-        stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, np.asarray(u, dtype=float))))
-        r_prior, J_prior = self.prior.linearised(np.asarray(stat))
-        return np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior * np.asarray(slope)])
+        stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
+        r_prior, J_prior = linearised_at(self._parts, np.asarray(stat))
+        found = np.concatenate([r / self.sigma, r_prior]), np.vstack([J / self.sigma, J_prior * np.asarray(slope)])
+        self._last = (u, found)
+        return found
 
 
 def posterior(J: np.ndarray, sigma: float, prior: GaussianPrior, stat_hat) -> dict:
