@@ -135,7 +135,7 @@ def fit(
                     raise InputError(f"starts: {p.name} = {v:g} is outside its search range ({p.low:g}, {p.high:g})")
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene = problem.traced
-    objective = Objective(traced_scene, fitted, data, loads.size, dtype)
+    objective = Objective(traced_scene, fitted, data, loads.size)
     if gaussian is not None:
         # Stated noise is in the weights already: the weighted residuals are in units of σ.
         sigma = noise_scale(objective, u0s[0], 1.0 if stated else None, max_iter, tol, len(fitted))

@@ -56,6 +56,7 @@ class AbstractObjective(abc.ABC):
     n_points: int
     settle: float = 0.0
     lowest: tuple = (math.inf, None)
+    _last: tuple | None = None
 
     @abc.abstractmethod
     def residuals(self, u) -> tuple[np.ndarray, np.ndarray]:
@@ -63,10 +64,15 @@ class AbstractObjective(abc.ABC):
 
     @typing.final
     def __call__(self, u) -> tuple[np.ndarray, np.ndarray]:
+        u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
+        # scipy asks for the residuals and then the Jacobian at the same point: one evaluation serves both.
+        if self._last is not None and np.array_equal(self._last[0], u):
+            return self._last[1]
         r, J = self.residuals(u)
         loss = half_mean_square(r, self.n_points)
         if math.isfinite(loss) and loss < self.lowest[0]:
-            self.lowest = (loss, np.array(u, dtype=float))
+            self.lowest = (loss, u)
+        self._last = (u, (r, J))
         return r, J
 
     @typing.final
@@ -84,28 +90,21 @@ class Objective(AbstractObjective):
     every observable's column, flattened by load).
 
     `u` are the optimiser coordinates (`FitParameter.stat_from_u`); `r` and `∂r/∂stat` come from
-    the one compiled `residuals_and_jacobian`, and `∂stat/∂u` is applied here. The last point is
-    remembered: scipy asks for the residuals and the Jacobian at the same point one after the other.
-    `n_points` counts the measured values (the loss is their mean squared residual); `settle` is the
+    the one compiled `residuals_and_jacobian`, bound to the scene and data once, and `∂stat/∂u` is
+    applied here. `n_points` counts the measured values (the loss is their mean squared residual); `settle` is the
     χ² decrement below which a fit is done (`settled`; 0, never, for a model smooth to round-off).
     """
 
-    def __init__(self, scene, params: tuple[FitParameter, ...], data: Observations, rows: int, dtype):
-        self.scene, self.params, self.data, self.rows, self.dtype = scene, params, data, rows, dtype
+    def __init__(self, scene, params: tuple[FitParameter, ...], data: Observations, rows: int):
+        self.params, self.rows = params, rows
         self.n_points = int(data.measured[:rows].sum())
         self.settle = 0.0 if scene.model.precision == 0 else SETTLED_STEPPED
-        self._last = None
         self._program, self._measured = bound_program(scene, params, data), data.measured[:rows].reshape(-1)
 
     def residuals(self, u) -> tuple[np.ndarray, np.ndarray]:
-        u = np.array(u, dtype=float)  # a copy: scipy may update its own array in place
-        if self._last is not None and np.array_equal(self._last[0], u):
-            return self._last[1]
         stat, slope = zip(*(p.stat_and_slope_from_u(x) for p, x in zip(self.params, u)))
         e = evaluated_by(self._program, stat, self.rows, self._measured)
-        r, J = e.r.astype(float), e.J.astype(float) * np.asarray(slope)
-        self._last = (u, (r, J))
-        return r, J
+        return e.r.astype(float), e.J.astype(float) * np.asarray(slope)
 
 
 def stalled(objective: AbstractObjective, loss: float, p: int) -> str | None:

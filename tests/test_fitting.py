@@ -333,7 +333,7 @@ def test_the_optimisers_jacobian_matches_finite_differences(table1):
     params = fitting.resolve(("D", "G"))
     scene, _ = prepare(make_scene(**START), loads)
     data = observations(loads, K, None, None, None, np.float64, 64)[0]
-    objective = Objective(scene, params, data, loads.size, np.float64)
+    objective = Objective(scene, params, data, loads.size)
     u = np.array([-0.4, 0.3])
     r, J = objective(u)
     assert r.shape == (loads.size,)
