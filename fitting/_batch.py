@@ -66,13 +66,14 @@ def fit_batch(
     `success` False, a warning naming the curve and the point); the others are.
     """
     t0 = time.perf_counter()
-    resolve_prior(prior, resolve(params))  # an error in the parameters or the prior is the batch's, not a curve's
+    # An error in the parameters or the prior is the batch's, not a curve's.
+    p = len(resolve_prior(prior, resolve(params))[1])
     if isinstance(n_starts, bool) or not isinstance(n_starts, int) or not 1 <= n_starts <= 64:
         raise InputError(f"n_starts = {n_starts!r} must be an integer in [1, 64]")
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk = {chunk!r} must be a number of curves >= 1")
     observed = dict(approach=approach, reference_load=reference_load, noise=noise, prior=prior)
-    loads, problems, bad = _curves(loads, stiffness, scene, params, observed)
+    loads, problems, bad = _curves(loads, stiffness, scene, params, p, observed)
     first = problems[0]
     fitted, gaussian, traced, data = first.params, first.prior, first.traced, [p.data for p in problems]
     u0s = jnp.asarray(first.starts(n_starts, seed), data[0].loads.dtype)
@@ -114,12 +115,12 @@ def _run(traced, fitted, data, u0s, max_iter, tol, chunk, sigmas, gaussian):
     return tuple(np.concatenate(parts)[:curves] for parts in zip(*outputs)), compile_time
 
 
-def _curves(loads, stiffness, scene, params, observed: dict):
+def _curves(loads, stiffness, scene, params, p: int, observed: dict):
     """`(loads, problems, bad)`: the loads (curves, points), each curve's `Problem` (a good curve's
     standing in for a curve that cannot be fitted: one compiled shape), and by curve why it cannot.
-    `observed`: the approach (curves, points), reference load (one, or one per curve), noise and prior."""
+    `p` parameters are fitted; `observed`: the approach (curves, points), reference load (one, or one
+    per curve), noise and prior."""
     loads = np.atleast_2d(float_array("loads", loads))
-    p = len(resolve(params))
     if loads.ndim != 2 or loads.shape[0] == 0:
         raise InputError(f"loads has shape {loads.shape}: give (curves, points), at least one curve")
     if loads.shape[1] <= p:

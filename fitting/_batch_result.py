@@ -7,6 +7,7 @@ import dataclasses
 
 import numpy as np
 
+from ._optimise import half_mean_square
 from ._parameters import with_stat
 from ._prior import with_prior_of
 from ._residuals import Evaluated
@@ -65,7 +66,7 @@ def batch_statistics(
     ci95 = {n: np.full((curves, 2), np.nan) for n in names}
     correlation = np.full((curves, p, p), np.nan)
     determined = np.zeros((curves, p), bool)
-    usable = np.zeros(curves, bool)
+    success = np.zeros(curves, bool)
     warnings, information, fits = [], [], []
     for c in range(curves):
         stat = np.array([q.stat_from_u(x) for q, x in zip(fitted, u[c])])
@@ -86,33 +87,31 @@ def batch_statistics(
             values[n][c], stderr[n][c], ci95[n][c] = result.values[n], result.stderr[n], result.ci95[n]
         correlation[c] = result.correlation
         determined[c] = [f.determined for f in result.identifiability] or False
-        usable[c] = result.usable and result.n_used > p
+        success[c] = k[c] < max_iter and np.isfinite(loss[c]) and result.usable and result.n_used > p
         notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
         best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
         rivals = rival_optima(fitted, us[c], best, result.covariance, losses[c], r[c].size, result.s2 / sigma**2)
         warnings.append(tuple(notes + list(result.warnings) + rivals))
-        measured, r_c = data[c].measured.reshape(-1), r[c].reshape(-1)
+        # As `fit` reports it: ½ mean square over the measured values (unmeasured entries are 0); with a
+        # prior, of the curve alone.
+        curve_loss = half_mean_square(e.r, int(e.measured.sum())) if gaussian is None else result.curve_loss
         fits.append(
             FitResult.of(
                 result,
                 fitted,
                 with_stat(scene, fitted, stat),
                 prior=gaussian,
-                success=bool(k[c] < max_iter and np.isfinite(loss[c]) and usable[c]),
+                success=bool(success[c]),
                 iterations=int(k[c]),
                 wall_time=wall_time,
                 warnings=warnings[-1],
-                # As `fit` reports it: ½ mean square over the measured values (of the curve alone, with a prior).
-                loss=0.5 * float(r_c[measured] @ r_c[measured]) / max(measured.sum(), 1)
-                if gaussian is None
-                else result.curve_loss,
+                loss=curve_loss,
                 start_losses=np.asarray(losses[c], dtype=float),
                 method="optax L-BFGS",
                 information=information[-1] if gaussian is not None else {},
                 observables=tuple(col.name for col in data[c].columns),
             )
         )
-    success = (k < max_iter) & np.isfinite(loss) & usable
     return BatchResult(
         params=tuple(names),
         values=values,
