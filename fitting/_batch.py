@@ -1,11 +1,11 @@
-"""Many curves at once: one compiled, `vmap`ped fit per curve (and start) with optax's L-BFGS and its
-zoom line search on the model's exact gradients (docs/fitting.md, "Many curves at once").
+"""Many curves at once: one compiled, `vmap`ped fit per curve (and start) with optimistix's
+Levenberg–Marquardt on the model's exact Jacobian (docs/fitting.md, "Many curves at once").
 
 Each curve is fitted as `fitting.fit` fits one: ln-stiffness residuals, the bounded
 reparameterisation `s = low + (high − low)·sigmoid(u)`, several starts (a Latin hypercube, the
-scene's values one of them), the best kept and finished by Gauss–Newton steps (the optimum of the
-least-squares problem itself, as `fit` finds it, not only where L-BFGS's tests stopped); then, per
-curve, the statistics `fit` gives (`_batch_result`). The whole batch is one XLA program: on an
+scene's values one of them), the best kept; then, per curve, the statistics `fit` gives
+(`_batch_result`). Each step of each start evaluates the model once, with its forward-mode Jacobian
+over the few parameters, and the program holds the model once. The whole batch is one XLA program: on an
 accelerator the curves run in parallel.
 """
 
@@ -48,7 +48,7 @@ def fit_batch(
     chunk: int = 32,
 ) -> BatchResult:
     """Fit `params` to many curves at once, one compiled program for all of them: each curve as `fit`
-    fits it (its observables, their weights and statistics), with optax's L-BFGS.
+    fits it (its observables, their weights and statistics), with optimistix's Levenberg–Marquardt.
 
     **Arguments:** `loads` (N, shape (curves, points)); `stiffness` (N/m, the same shape; NaN where only
     the approach was measured; `None` with `approach` alone); `approach` (m, δ(F) − δ(F0), the same
@@ -57,8 +57,10 @@ def fit_batch(
     `prior` (as `fit`'s, the same for every curve: the MAP estimate and its Laplace covariance per
     curve, each curve weighed against it by its own noise, stated or its residuals' scale fitted alone);
     `scene` (what is not fitted, shared by the curves, and one start); `params`; `n_starts` (per curve);
-    `seed` (of the Latin-hypercube starts); `max_iter`, `tol` (L-BFGS's cap and tolerance on the
-    gradient's norm and the loss's relative progress); `chunk` (curves per call of the compiled program:
+    `seed` (of the Latin-hypercube starts); `max_iter`, `tol` (the cap on Levenberg–Marquardt steps, and
+    the tolerance, relative and absolute, on an accepted step's change of the parameters in optimiser
+    coordinates and of the residuals; a start that uses up its steps has converged all the same where the
+    Gauss–Newton step from its end would gain less than 1e-6 in χ²); `chunk` (curves per call of the compiled program:
     a `vmap`ped loop runs until its slowest lane ends, so one start that needs many steps holds its
     chunk, not the batch; on an accelerator a larger chunk fills it better).
 
@@ -84,7 +86,7 @@ def fit_batch(
         # Each curve's noise in ln K: its residuals' scale fitted alone (`fit`'s `noise_scale`).
         alone, compile_time = batch(sigmas, None)
         sigmas = np.array(
-            [residual_scale(r.reshape(-1), int(d.measured.sum()), len(fitted)) for r, d in zip(alone[3], data)]
+            [residual_scale(r.reshape(-1), int(d.measured.sum()), len(fitted)) for r, d in zip(alone[4], data)]
         )
     outcome, seconds = batch(sigmas, gaussian)
     wall_time = time.perf_counter() - t0

@@ -52,13 +52,14 @@ def batch_statistics(
 ):
     """Per curve (`data`: each one's `Observations`), `statistics_of` at its optimum `u` (optimiser
     coordinates) from the program's residuals `r`, valid mask `ok`, statuses and Jacobian `J` (each
-    (curves, points, ...)), with L-BFGS's step count `k` and the loss: the values, intervals,
-    correlations, identifiability and warnings `fit` gives; plus the batch's own note of a curve whose
-    L-BFGS did not converge. `outcome` is the program's `(u, loss, k, r, ok, status, J, us, losses)`,
+    (curves, points, ...)), with the solver's step count `k`, whether it `converged`, and the loss: the
+    values, intervals, correlations, identifiability and warnings `fit` gives; plus the batch's own
+    note of a curve whose fit did not converge. `outcome` is the program's
+    `(u, loss, k, converged, r, ok, status, J, us, losses)`,
     the last two every start's end and loss (½ mean r² over every entry, measured or not). With a
     prior (`gaussian`), each curve's intervals are the Laplace posterior's at its noise `sigmas[c]`
     (`with_prior_of`), as `fit`'s."""
-    u, loss, k, r, ok, status, J, us, losses = outcome
+    u, loss, k, converged, r, ok, status, J, us, losses = outcome
     p, curves = len(fitted), u.shape[0]
     names = [q.name for q in fitted]
     values = {n: np.full(curves, np.nan) for n in names}
@@ -87,8 +88,8 @@ def batch_statistics(
             values[n][c], stderr[n][c], ci95[n][c] = result.values[n], result.stderr[n], result.ci95[n]
         correlation[c] = result.correlation
         determined[c] = [f.determined for f in result.identifiability] or False
-        success[c] = k[c] < max_iter and np.isfinite(loss[c]) and result.usable and result.n_used > p
-        notes = [f"did not converge in {max_iter} L-BFGS steps"] if k[c] >= max_iter else []
+        success[c] = bool(converged[c]) and np.isfinite(loss[c]) and result.usable and result.n_used > p
+        notes = [] if converged[c] else [f"did not converge in {max_iter} Levenberg–Marquardt steps"]
         best = int(np.nanargmin(np.where(np.isfinite(losses[c]), losses[c], np.inf)))
         rivals = rival_optima(fitted, us[c], best, result.covariance, losses[c], r[c].size, result.s2 / sigma**2)
         warnings.append(tuple(notes + list(result.warnings) + rivals))
@@ -107,7 +108,7 @@ def batch_statistics(
                 warnings=warnings[-1],
                 loss=curve_loss,
                 start_losses=np.asarray(losses[c], dtype=float),
-                method="optax L-BFGS",
+                method="Levenberg–Marquardt (optimistix)",
                 information=information[-1] if gaussian is not None else {},
                 observables=tuple(col.name for col in data[c].columns),
             )

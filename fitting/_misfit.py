@@ -65,12 +65,51 @@ class Misfit(eqx.Module):
         return *found, self.prior_residuals(stat), jax.jacfwd(self.prior_residuals)(stat)
 
     def linearised(self, u, found):
-        """The misfit's residual vector at `u` (the curve's over σ, 0 where a point is flagged or not
-        measured, then the prior's) and its Jacobian in optimiser coordinates, from `evaluate(u)`."""
+        """The misfit's residual vector at `u` (the curve's over σ, a flagged point's constant and an
+        unmeasured entry's 0 included, then the prior's) and its Jacobian in optimiser coordinates, from
+        `evaluate(u)`."""
         r, ok, _, J, r_prior, J_prior = found
+        # A flagged point's residual is a constant; its row of J is 0 (whatever the model's derivative there).
         used = (ok & ~jnp.isnan(self.data.targets)).reshape(-1)
         # ∂stat/∂u, one coordinate at a time (the map is elementwise).
         slope = jax.jvp(lambda x: stat_of_u(self.fitted, x), (u,), (jnp.ones_like(u),))[1]
         J_curve = jnp.where(used[:, None], J.reshape(used.size, -1) / self.sigma, 0.0)
-        residuals = jnp.concatenate([jnp.where(used, r.reshape(-1), 0.0) / self.sigma, r_prior])
+        residuals = jnp.concatenate([r.reshape(-1) / self.sigma, r_prior])
         return residuals, jnp.concatenate([J_curve, J_prior]) * slope[None, :]
+
+    def least_squares(self, u):
+        """`(residuals, found)`: the residual vector of `linearised` at `u`, differentiable by the
+        Jacobian that `evaluate` computed alongside it (a least-squares solver's linearisation then
+        evaluates the model once, forward mode over the few parameters), and `evaluate(u)`."""
+
+        @jax.custom_jvp
+        def vector(u):
+            found = self.evaluate(u)
+            return self.linearised(u, found)[0], found
+
+        @vector.defjvp
+        def jvp(primals, tangents):
+            (u,), (du,) = primals, tangents
+            found = self.evaluate(u)
+            residuals, J_u = self.linearised(u, found)
+            return (residuals, found), (J_u @ du, jax.tree.map(_zero_tangent, found))
+
+        return vector(u)
+
+    def remaining_gain(self, u, found):
+        """The χ² that the Gauss–Newton step from `u` would gain, in units of the curve's own
+        `s² = Σr²/(N − p)` (from `evaluate(u)`)."""
+        residuals, J_u = self.linearised(u, found)
+        g = J_u.T @ residuals
+        JTJ = J_u.T @ J_u
+        nudge = 1e-12 * jnp.trace(JTJ) * jnp.eye(JTJ.shape[0], dtype=JTJ.dtype)
+        gain = g @ jnp.linalg.solve(JTJ + nudge, g)
+        n = jnp.sum(~jnp.isnan(self.data.targets)) + found[4].size - u.size
+        s2 = (residuals @ residuals) / jnp.maximum(n, 1).astype(residuals.dtype)
+        return gain / jnp.maximum(s2, jnp.finfo(s2.dtype).tiny)
+
+
+def _zero_tangent(x):
+    if jnp.issubdtype(x.dtype, jnp.inexact):
+        return jnp.zeros_like(x)
+    return jnp.zeros(x.shape, jax.dtypes.float0)

@@ -74,7 +74,7 @@ def complex_dtype(dtype):
 
 def standard_promotion():
     """A context with JAX's standard dtype promotion, around the third-party code this package calls
-    that is not clean under strict promotion (blackjax's warm-up schedule, optax's L-BFGS, quadax's
-    adaptive rule): a user who runs with `jax_numpy_dtype_promotion="strict"` gets results, not their
+    that is not clean under strict promotion (blackjax's warm-up schedule, quadax's adaptive
+    rule): a user who runs with `jax_numpy_dtype_promotion="strict"` gets results, not their
     errors. This package's own code is strict-clean; the setting is restored on leaving."""
     return jax.numpy_dtype_promotion("standard")
