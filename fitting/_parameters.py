@@ -98,6 +98,12 @@ def resolve(names) -> tuple[FitParameter, ...]:
     """The `FitParameter`s for `names` (a sequence or a comma-separated string)."""
     if isinstance(names, str):
         names = [n.strip() for n in names.split(",") if n.strip()]
+    if not isinstance(names, (list, tuple)) or not all(isinstance(n, str) for n in names):
+        # A method passed where the parameters go (`fit(loads, K, scene, LevenbergMarquardt())`) lands here.
+        raise InputError(
+            f"params = {names!r} must be parameter names, e.g. ('D', 'G') (allowed: {', '.join(PARAMETERS)}); "
+            "the optimiser goes in method="
+        )
     names = list(names)
     if not names:
         raise InputError("params must name at least one parameter")

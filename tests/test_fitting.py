@@ -172,6 +172,7 @@ def test_result_is_complete_and_serialisable(table1):
     [
         (dict(params="D,Q"), r"'Q' cannot be fitted"),
         (dict(params=("D", "D")), r"names a parameter twice"),
+        (dict(params=fitting.LevenbergMarquardt()), r"params = LevenbergMarquardt\(\) must be parameter names"),
     ],
 )
 def test_bad_arguments(table1, kw, message):
