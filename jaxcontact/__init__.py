@@ -84,9 +84,11 @@ __version__ = "0.5.0"
 _LAZY = (
     "Approach",
     "Drive",
+    "InterfaceLaw",
     "approach",
     "approach_quadrature",
     "frequency_response",
+    "interface_law",
     "resonance_frequency",
     "simulate",
     "steady_amplitude",

@@ -1,8 +1,11 @@
-"""What is built on the stiffness: the load–approach curve, a driven mass on the joint, sharded
-parameter sweeps, and chunked solves of long load sweeps."""
+"""What is built on the stiffness: the load–approach curve, the interface law per unit area and the
+tables FE codes read, a driven mass on the joint, sharded parameter sweeps, and chunked solves of
+long load sweeps."""
 
 from ._approach_sum import Approach, approach_quadrature, approach_star
 from ._chunks import CHUNK, map_in_chunks, solve_sweep
+from ._fe_tables import interface_csv, pressure_overclosure
+from ._interface import InterfaceLaw, interface_law
 from ._sharded_sweep import SweepResult, sweep
 
 # The applications that integrate with diffrax are imported when first used: diffrax's import
@@ -22,6 +25,10 @@ __all__ = [
     "Approach",
     "approach_quadrature",
     "approach_star",
+    "InterfaceLaw",
+    "interface_law",
+    "pressure_overclosure",
+    "interface_csv",
     "SweepResult",
     "CHUNK",
     "map_in_chunks",

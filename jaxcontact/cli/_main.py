@@ -20,6 +20,7 @@ from ._commands import cmd_approach, cmd_dynamics, cmd_run
 from ._compare_commands import cmd_compare
 from ._compare_table import DEFAULT_COMPARE_SCENE, add_compare_options
 from ._fit_commands import cmd_fit
+from ._interface_command import add_interface_options, cmd_interface
 from ._output import CommandError
 from ._process import command_settings, plotting_imported_while_compiling, warnings_as_lines
 from ._study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
@@ -107,6 +108,14 @@ def build_parser() -> argparse.ArgumentParser:
         "jaxcontact-out/approach",
         "table1_dynamics.toml",
     )
+    p = scene_command(
+        "interface",
+        "the joint's interface law per unit area (closure, stiffness against nominal pressure), written as "
+        "CSV and as the pressure-overclosure table CalculiX and Abaqus read",
+        cmd_interface,
+        "jaxcontact-out/interface",
+    )
+    add_interface_options(p)
     scene_command(
         "dynamics",
         "a driven mass on the joint: time history, frequency response, resonance against "

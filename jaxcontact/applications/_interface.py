@@ -1,0 +1,87 @@
+"""The joint as an interface law per unit area, for the integration points of a finite-element or
+structural model (docs/applications.md, "Interface laws for FE"): nominal pressure p ↦ closure δ(p),
+normal stiffness k_n(p) = K/A_a and contact fraction, and the pressure–overclosure table that CalculiX
+and Abaqus read."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, ArrayLike, Float, Int
+
+from ..core import Scene, solve
+from ..numerics import InputError
+from ..quantities import Status
+from ._approach_sum import approach_quadrature
+
+
+class InterfaceLaw(eqx.Module):
+    """Result of `interface_law`: per nominal pressure, the interface's closure and stiffness per unit area.
+
+    **Fields:**
+
+    - `pressure`: nominal pressure p = F/A_a, Pa.
+    - `reference_pressure`: the pressure p0 at which the closure is zero, Pa.
+    - `closure`: δ(p) − δ(p0), the approach of the two surfaces' mean planes (m) beyond its value at
+      p0 (docs/model.md §6); negative below p0.
+    - `normal_stiffness`: k_n(p) = K(p A_a)/A_a, the loading tangent per unit area, Pa/m (N/m per m²).
+    - `contact_fraction`: A_r/A_a.
+    - `status`: per point, as `Solution.status` (0 = ok); where it is not 0 the other fields are NaN.
+    - `nominal_area`: the scene's A_a (m²): a fractal model's law per unit area depends on it (its
+      largest spot grows with the area), so a law belongs to the nominal area it was computed for.
+    """
+
+    pressure: Float[Array, " pressures"]
+    reference_pressure: Float[Array, ""]
+    closure: Float[Array, " pressures"]
+    normal_stiffness: Float[Array, " pressures"]
+    contact_fraction: Float[Array, " pressures"]
+    status: Int[Array, " pressures"]
+    nominal_area: Float[Array, ""]
+
+
+def interface_law(
+    scene: Scene,
+    pressures: Float[ArrayLike, " pressures"],
+    reference_pressure: float | Float[ArrayLike, ""] | None = None,
+    *,
+    nodes: int = 8,
+) -> InterfaceLaw:
+    """The interface law of `scene` per unit area at nominal `pressures`.
+
+    **Arguments:**
+
+    - `scene`: the joint (surface, material, nominal area A_a) and its model.
+    - `pressures`: nominal pressures p (Pa), 1-D, positive and finite.
+    - `reference_pressure`: p0 (Pa), where the closure is zero (default: the smallest of `pressures`,
+      which must then be concrete). Persson's closure grows without bound as p → 0 (p ∝ e^(−u/u0)),
+      so a closure is always relative to a stated pressure.
+    - `nodes`: Gauss–Legendre nodes per piece of the closure's quadrature (`approach_quadrature`).
+
+    **Returns:** an `InterfaceLaw`. Differentiable with respect to the pressures and the scene's
+    parameters; `vmap` over scenes or pressure arrays as `solve`.
+    """
+    pressures = jnp.asarray(pressures)
+    if pressures.ndim != 1 or pressures.size == 0:
+        raise InputError(f"pressures has shape {pressures.shape}: give a 1-D array of nominal pressures (Pa)")
+    if reference_pressure is None:
+        if isinstance(pressures, jax.core.Tracer):
+            raise InputError("reference_pressure = None needs concrete pressures: give it when tracing them")
+        reference_pressure = float(np.min(np.asarray(pressures)))
+    area = scene.area
+    loads = pressures * area
+    solution = solve(scene, loads)
+    closure = approach_quadrature(scene, loads, reference_pressure * area, nodes=nodes)
+    status = jnp.where(solution.status != Status.OK, solution.status, closure.status)
+    ok = status == Status.OK
+    return InterfaceLaw(
+        pressure=pressures.astype(solution.stiffness.dtype),
+        reference_pressure=jnp.asarray(reference_pressure, solution.stiffness.dtype),
+        closure=jnp.where(ok, closure.approach, jnp.nan),
+        normal_stiffness=jnp.where(ok, solution.stiffness / area, jnp.nan),
+        contact_fraction=jnp.where(ok, solution.real_area / area, jnp.nan),
+        status=status,
+        nominal_area=jnp.asarray(area, solution.stiffness.dtype),
+    )

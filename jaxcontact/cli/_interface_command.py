@@ -1,0 +1,72 @@
+"""`jaxcontact interface`: the scene's interface law per unit area, written as the tables FE codes read."""
+
+from __future__ import annotations
+
+import pathlib
+
+from ._output import CommandError, print_result
+
+# Default pressures: F* = p/E from 1e-9 to 1e-4, the range of the paper's curves.
+DEFAULT_PRESSURES_OVER_E = (1e-9, 1e-4)
+FILES = ("interface.csv", "interface.inp")
+COLUMNS = ("pressure", "closure", "normal_stiffness", "contact_fraction", "status")
+
+
+def cmd_interface(args) -> int:
+    import numpy as np
+
+    from ..applications import interface_csv, interface_law, pressure_overclosure
+    from ..quantities import status_message
+    from ._report import format_table
+    from ._scenefile import load_scene
+
+    spec = load_scene(args.scene)
+    scene = spec.scene
+    E = float(scene.material.E)
+    low, high = args.pressures or [f * E for f in DEFAULT_PRESSURES_OVER_E]
+    if not 0 < low < high < float("inf"):
+        raise CommandError(f"--pressures {low:g} {high:g} must be two pressures (Pa) with 0 < low < high")
+    if args.points < 2:
+        raise CommandError(f"--points {args.points} must be at least 2")
+    reference = low if args.reference is None else args.reference
+    if not 0 < reference <= high:
+        raise CommandError(f"--reference {reference:g} must be a pressure (Pa) in (0, {high:g}]")
+    law = interface_law(scene, np.geomspace(low, high, args.points), reference)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / FILES[0]).write_text(interface_csv(scene, law))
+    (out / FILES[1]).write_text(pressure_overclosure(scene, law))
+    files = [str(out / name) for name in FILES]
+    rows = [
+        {
+            "p_Pa": float(p),
+            "closure_m": float(d),
+            "k_n_Pa_per_m": float(k),
+            "contact_fraction": float(f),
+            "status": status_message(int(s)) if s else "ok",
+        }
+        for p, d, k, f, s in zip(*(np.asarray(getattr(law, name)) for name in COLUMNS))
+    ]
+    text = (
+        f"{spec.title}: interface law per unit area (nominal area {float(scene.area):g} m², closure from "
+        f"p0 = {reference:g} Pa)\n\n"
+        + format_table(rows, ("p_Pa", "closure_m", "k_n_Pa_per_m", "contact_fraction", "status"))
+        + "\n\n"
+        + f"wrote {files[0]} (the law with its provenance)\n"
+        + f"wrote {files[1]} (*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR, for CalculiX and Abaqus)"
+    )
+    payload = {"title": spec.title, "nominal_area_m2": float(scene.area), "reference_pressure_Pa": reference}
+    print_result(payload | {"rows": rows, "files": files}, args.format, text)
+    return 0
+
+
+def add_interface_options(p) -> None:
+    p.add_argument(
+        "--pressures",
+        nargs=2,
+        type=float,
+        metavar=("LOW", "HIGH"),
+        help="nominal pressures (Pa), log-spaced from LOW to HIGH (default: 1e-9 E to 1e-4 E)",
+    )
+    p.add_argument("--points", type=int, default=40, help="number of pressures (default: 40)")
+    p.add_argument("--reference", type=float, help="pressure (Pa) at which the closure is zero (default: LOW)")

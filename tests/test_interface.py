@@ -1,0 +1,204 @@
+"""The interface law per unit area (`jc.interface_law`) against scipy's quadrature of A_a/K, and its
+pressure–overclosure table read by a real FE code: CalculiX presses two elastic blocks together
+through it."""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import TABLE1, make_scene, scipy_approach
+
+import jaxcontact as jc
+from jaxcontact import InputError
+from jaxcontact.applications import interface_csv, pressure_overclosure
+from jaxcontact.cli import main
+
+P0 = 1e4  # Pa
+PRESSURES = np.geomspace(P0, 1e8, 40)  # the exported table's pressures
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return make_scene(**TABLE1)
+
+
+@pytest.fixture(scope="module")
+def law(scene):
+    return jc.interface_law(scene, PRESSURES)
+
+
+def test_the_closure_is_scipys_quadrature_of_area_over_stiffness(scene, law):
+    area = TABLE1["area"]
+    expected = scipy_approach(scene, PRESSURES[::8] * area, P0 * area)
+    np.testing.assert_allclose(np.asarray(law.closure)[::8], expected, rtol=1e-6, atol=1e-20)
+
+
+def test_the_stiffness_per_area_is_the_solves_over_the_nominal_area(scene, law):
+    K = np.asarray(jc.solve(scene, PRESSURES * TABLE1["area"]).stiffness)
+    np.testing.assert_allclose(law.normal_stiffness, K / TABLE1["area"], rtol=1e-12)
+
+
+def test_the_closure_is_zero_at_the_reference_pressure(law):
+    assert float(law.closure[0]) == 0.0
+
+
+def test_the_closures_gradient_in_d_is_central_differences(scene):
+    def closure(D):
+        return jc.interface_law(eqx.tree_at(lambda s: s.surface.D, scene, D), jnp.array([1e6]), P0).closure[0]
+
+    h = 1e-6
+    fd = (closure(TABLE1["D"] + h) - closure(TABLE1["D"] - h)) / (2 * h)
+    np.testing.assert_allclose(jax.grad(closure)(jnp.asarray(TABLE1["D"])), fd, rtol=1e-5)
+
+
+def test_the_table_starts_at_zero_and_ascends(scene, law):
+    block = pressure_overclosure(scene, law).splitlines()
+    rows = np.array([[float(v) for v in line.split(",")] for line in block[block.index("0., 0.") :]])
+    assert rows[0].tolist() == [0.0, 0.0]
+    assert np.all(np.diff(rows[:, 1]) > 0)
+
+
+def test_the_table_leaves_out_flagged_pressures(scene):
+    law = jc.interface_law(scene, np.array([1e4, 1e6, 1e12]))  # 1e12 Pa is past F* = 1
+    block = pressure_overclosure(scene, law)
+    assert int(law.status[2]) == int(jc.Status.LOAD_OUT_OF_RANGE)
+    assert block.rstrip().splitlines()[-1].startswith("1.000000000e+06,")
+
+
+def test_a_table_with_nothing_above_the_reference_is_refused(scene):
+    law = jc.interface_law(scene, np.array([1e6]))
+    with pytest.raises(InputError, match=r"no pressure above the reference p0 = 1e\+06 Pa has status ok"):
+        pressure_overclosure(scene, law)
+
+
+def test_the_csv_names_the_nominal_area_it_belongs_to(scene, law):
+    text = interface_csv(scene, law)
+    assert "# nominal area A_a = 0.0001 m^2" in text
+    assert text.splitlines()[5] == "pressure_Pa,closure_m,normal_stiffness_Pa_per_m,contact_fraction,status"
+
+
+# Two 10 mm steel cubes (ν = 0: a uniaxial stress, so that every node can be held laterally), the lower
+# one on its bottom face, the upper one pressed on its top face, in contact through the exported table.
+BLOCKS = """*NODE
+1, 0., 0., 0.
+2, 0.01, 0., 0.
+3, 0.01, 0.01, 0.
+4, 0., 0.01, 0.
+5, 0., 0., 0.01
+6, 0.01, 0., 0.01
+7, 0.01, 0.01, 0.01
+8, 0., 0.01, 0.01
+9, 0., 0., 0.01
+10, 0.01, 0., 0.01
+11, 0.01, 0.01, 0.01
+12, 0., 0.01, 0.01
+13, 0., 0., 0.02
+14, 0.01, 0., 0.02
+15, 0.01, 0.01, 0.02
+16, 0., 0.01, 0.02
+*ELEMENT, TYPE=C3D8, ELSET=LOWER
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*ELEMENT, TYPE=C3D8, ELSET=UPPER
+2, 9, 10, 11, 12, 13, 14, 15, 16
+*NSET, NSET=ALL
+1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16
+*NSET, NSET=BOTTOM
+1, 2, 3, 4
+*NSET, NSET=TOP
+13, 14, 15, 16
+*SURFACE, NAME=LOWERTOP
+1, S2
+*SURFACE, NAME=UPPERBOTTOM
+2, S1
+*MATERIAL, NAME=STEEL
+*ELASTIC
+{E_block}, 0.
+*SOLID SECTION, ELSET=LOWER, MATERIAL=STEEL
+*SOLID SECTION, ELSET=UPPER, MATERIAL=STEEL
+*SURFACE INTERACTION, NAME=ROUGH
+{table}*CONTACT PAIR, INTERACTION=ROUGH, TYPE=NODE TO SURFACE
+UPPERBOTTOM, LOWERTOP
+*BOUNDARY
+ALL, 1, 2
+BOTTOM, 3
+*TIME POINTS, NAME=QUARTERS
+0.25, 0.5, 0.75, 1.0
+*STEP, INC=1000
+*STATIC
+0.01, 1.0
+*DLOAD
+2, P2, {pressure}
+*NODE PRINT, NSET=TOP, TIME POINTS=QUARTERS
+U
+*CONTACT PRINT, TIME POINTS=QUARTERS
+CDIS, CSTR
+*END STEP
+"""
+E_BLOCK, P_MAX, HEIGHT = 210e9, 5e7, 0.01
+
+
+@pytest.fixture(scope="module")
+def calculix(scene, law, tmp_path_factory):
+    """CalculiX's contact pressure, contact closure and top displacement at p = ¼, ½, ¾ and 1 of P_MAX."""
+    if shutil.which("ccx") is None:
+        pytest.skip("CalculiX is not installed (Debian: apt-get install calculix-ccx; .ci/run installs it)")
+    work = tmp_path_factory.mktemp("calculix")
+    table = pressure_overclosure(scene, law)
+    (work / "stack.inp").write_text(BLOCKS.format(E_block=E_BLOCK, table=table, pressure=P_MAX))
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    run = subprocess.run(["ccx", "-i", "stack"], cwd=work, capture_output=True, text=True, env=env, timeout=120)
+    assert run.returncode == 0 and "ERROR" not in run.stdout, run.stdout[-2000:]
+    text = (work / "stack.dat").read_text()
+
+    def blocks(title):
+        found = re.findall(title + r".*?time\s+(\S+)\s*\n\s*\n((?:\s*\d+(?:\s+\S+){3}\s*\n)+)", text)
+        return {
+            round(float(t), 6): np.array([[float(v) for v in line.split()[1:]] for line in b.strip().splitlines()])
+            for t, b in found
+        }
+
+    return blocks(r"contact stress"), blocks(r"relative contact displacement"), blocks(r"displacements \(vx,vy,vz\)")
+
+
+@pytest.mark.parametrize("fraction", [0.25, 0.5, 1.0])
+def test_calculix_carries_the_pressure_through_the_interface(calculix, fraction):
+    stress, _, _ = calculix
+    np.testing.assert_allclose(stress[fraction][:, 0], fraction * P_MAX, rtol=1e-6)
+
+
+@pytest.mark.parametrize("fraction", [0.25, 0.5, 1.0])
+def test_calculix_closes_the_interface_by_the_librarys_closure(scene, calculix, fraction):
+    _, closure, _ = calculix
+    p = fraction * P_MAX
+    expected = float(jc.interface_law(scene, np.array([p]), P0).closure[0])
+    np.testing.assert_allclose(-closure[fraction][:, 0], expected, rtol=1e-2)
+
+
+@pytest.mark.parametrize("fraction", [0.25, 0.5, 1.0])
+def test_the_stacks_compliance_is_the_blocks_plus_the_interfaces(calculix, fraction):
+    _, closure, top = calculix
+    p = fraction * P_MAX
+    blocks = 2 * p * HEIGHT / E_BLOCK
+    np.testing.assert_allclose(-top[fraction][:, 2], blocks - closure[fraction][:, 0], rtol=1e-6)
+
+
+def test_the_command_writes_the_law_and_the_fe_table(tmp_path, capsys):
+    argv = ["interface", "--pressures", "1e4", "1e8", "--points", "9", "--out", str(tmp_path), "--format", "json"]
+    assert main(argv) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    law = jc.interface_law(jc.table1_scene(), np.geomspace(1e4, 1e8, 9))
+    np.testing.assert_allclose([r["closure_m"] for r in rows], law.closure, rtol=1e-12)
+    lines = (tmp_path / "interface.inp").read_text().splitlines()
+    assert len(lines) == 6 + 1 + 1 + 8  # provenance, keyword, the row "0., 0.", the 8 pressures above p0
+
+
+def test_the_command_refuses_pressures_out_of_order(tmp_path, capsys):
+    assert main(["interface", "--pressures", "5", "1", "--out", str(tmp_path)]) == 2
+    assert "--pressures 5 1 must be two pressures (Pa) with 0 < low < high" in capsys.readouterr().err
