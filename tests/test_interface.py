@@ -19,6 +19,7 @@ import jaxcontact as jc
 from jaxcontact import InputError
 from jaxcontact.applications import interface_csv, pressure_overclosure
 from jaxcontact.cli import main
+from jaxcontact.numerics import x64
 
 P0 = 1e4  # Pa
 PRESSURES = np.geomspace(P0, 1e8, 40)  # the exported table's pressures
@@ -207,3 +208,10 @@ def test_the_command_writes_the_law_and_the_fe_table(tmp_path, capsys):
 def test_the_command_refuses_pressures_out_of_order(tmp_path, capsys):
     assert main(["interface", "--pressures", "5", "1", "--out", str(tmp_path)]) == 2
     assert "--pressures 5 1 must be two pressures (Pa) with 0 < low < high" in capsys.readouterr().err
+
+
+def test_float32_gives_the_float64_closure_within_1e4(law):
+    with x64(False):
+        law32 = jc.interface_law(make_scene(**TABLE1), PRESSURES[::8].astype(np.float32))
+        assert law32.closure.dtype == np.float32
+        np.testing.assert_allclose(np.asarray(law32.closure)[1:], np.asarray(law.closure)[::8][1:], rtol=1e-4)
