@@ -117,6 +117,28 @@ def fit(
         prior=prior,
         multiple=_multiple(scene),
     )
+    return fit_problem(
+        problem, method, n_starts=n_starts, seed=seed, max_iter=max_iter, tol=tol, starts=starts, profile=profile, t0=t0
+    )
+
+
+def fit_problem(
+    problem: Problem,
+    method: AbstractMethod = BFGS(),
+    *,
+    n_starts: int = 12,
+    seed: int = 0,
+    max_iter: int = 400,
+    tol: float | None = None,
+    starts=None,
+    profile: bool = False,
+    t0: float | None = None,
+) -> FitResult:
+    """`fit`'s driver: `problem` (built as `Problem.of(..., multiple=...)` with the padding `fit` uses)
+    optimised from `n_starts` starts (or explicit `starts`) by `method`, then its statistics. The other
+    arguments are `fit`'s; `t0` is when the caller's call began (for `FitResult.wall_time`)."""
+    t0 = time.perf_counter() if t0 is None else t0
+    scene = problem.scene
     fitted, gaussian, data, loads, stated = problem.params, problem.prior, problem.data, problem.loads, problem.stated
     dtype = data.loads.dtype
     if tol is None:

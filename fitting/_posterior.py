@@ -152,7 +152,7 @@ def sample(
     `Posterior.success` is False, with a warning, for a model the data reject, for a least-squares
     optimum on a search bound, for divergent draws above 1 % and for R-hat above 1.01.
     """
-    from ._fit import fit, model_stiffness
+    from ._fit import _multiple, fit_problem, model_stiffness
 
     for name, value, least in (
         ("chains", chains, 2),
@@ -163,9 +163,10 @@ def sample(
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise jc.InputError(f"{name} = {value!r} must be an integer >= {least}")
     t0 = time.perf_counter()
-    observed = dict(approach=approach, reference_load=reference_load)
-    start = fit(loads, stiffness, scene, params, prior=prior, noise=noise, n_starts=4, seed=seed, **observed)
+    observed = dict(approach=approach, reference_load=reference_load, multiple=_multiple(scene))
+    # One problem: the least-squares start is fitted on it (padded as `fit` pads), and sampled.
     problem = Problem.of(loads, stiffness, scene, params, prior=prior, noise=noise, **observed)
+    start = fit_problem(problem, n_starts=4, seed=seed)
     fitted, data, loads = problem.params, problem.data, problem.loads
     sigma = 1.0 if problem.stated else _scale(start, data, len(fitted))
     logdensity = LogDensity(problem.misfit(sigma))
