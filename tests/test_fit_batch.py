@@ -145,7 +145,7 @@ PRIOR = {"D": fitting.Normal(TRUTH["D"], 0.005)}
 def prior_fits(curves):
     """The batch's curves with a prior on D, weighed at a stated noise: batch and one by one, both by
     Levenberg–Marquardt. (On curve 1 the MAP objective has two local optima 0.24 standard errors
-    apart, Δχ² = 0.012, on either side of a regime kink; from these starts Levenberg–Marquardt,
+    apart, Δχ² = 0.24, on either side of a regime kink; from these starts Levenberg–Marquardt,
     MINPACK's as the batch's, ends in one and BFGS in the other.)"""
     batch = fitting.fit_batch(*curves, make_scene(**START), n_starts=4, prior=PRIOR, noise=0.05)
     lm = fitting.LevenbergMarquardt()
