@@ -205,6 +205,11 @@ def test_the_command_writes_the_law_and_the_fe_table(tmp_path, capsys):
     assert len(lines) == 6 + 1 + 1 + 8  # provenance, keyword, the row "0., 0.", the 8 pressures above p0
 
 
+def test_the_command_draws_the_law(tmp_path):
+    assert main(["interface", "--points", "5", "--out", str(tmp_path), "--no-progress"]) == 0
+    assert (tmp_path / "interface.png").stat().st_size > 10_000
+
+
 def test_the_command_refuses_pressures_out_of_order(tmp_path, capsys):
     assert main(["interface", "--pressures", "5", "1", "--out", str(tmp_path)]) == 2
     assert "--pressures 5 1 must be two pressures (Pa) with 0 < low < high" in capsys.readouterr().err

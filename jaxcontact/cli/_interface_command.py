@@ -36,7 +36,11 @@ def cmd_interface(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / FILES[0]).write_text(interface_csv(scene, law))
     (out / FILES[1]).write_text(pressure_overclosure(scene, law))
-    files = [str(out / name) for name in FILES]
+    from ._plots import plot_interface
+
+    columns = [np.asarray(getattr(law, name)) for name in COLUMNS]
+    figure = plot_interface(columns[0], columns[1], columns[2], reference, out / "interface.png")
+    files = [str(out / name) for name in FILES] + [figure]
     rows = [
         {
             "p_Pa": float(p),
@@ -45,7 +49,7 @@ def cmd_interface(args) -> int:
             "contact_fraction": float(f),
             "status": status_message(int(s)) if s else "ok",
         }
-        for p, d, k, f, s in zip(*(np.asarray(getattr(law, name)) for name in COLUMNS))
+        for p, d, k, f, s in zip(*columns)
     ]
     text = (
         f"{spec.title}: interface law per unit area (nominal area {float(scene.area):g} m², closure from "
@@ -53,7 +57,8 @@ def cmd_interface(args) -> int:
         + format_table(rows, ("p_Pa", "closure_m", "k_n_Pa_per_m", "contact_fraction", "status"))
         + "\n\n"
         + f"wrote {files[0]} (the law with its provenance)\n"
-        + f"wrote {files[1]} (*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR, for CalculiX and Abaqus)"
+        + f"wrote {files[1]} (*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR, for CalculiX and Abaqus)\n"
+        + f"wrote {files[2]}"
     )
     payload = {"title": spec.title, "nominal_area_m2": float(scene.area), "reference_pressure_Pa": reference}
     print_result(payload | {"rows": rows, "files": files}, args.format, text)

@@ -30,7 +30,7 @@ from ._topography_run import add_run_topography_options
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
 # The commands that draw figures with matplotlib.
-DRAWING = frozenset({"run", "surface", "approach", "dynamics", "compare", "figures", "fit", "accuracy"})
+DRAWING = frozenset({"run", "surface", "approach", "interface", "dynamics", "compare", "figures", "fit", "accuracy"})
 # The commands that time compilations: run without the persistent cache, whose reads they would
 # time instead (JAX decides once per process whether to use it, at the first compilation).
 TIMING = frozenset({"bench"})
@@ -111,7 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = scene_command(
         "interface",
         "the joint's interface law per unit area (closure, stiffness against nominal pressure), written as "
-        "CSV and as the pressure-overclosure table CalculiX and Abaqus read",
+        "CSV, as the pressure-overclosure table CalculiX and Abaqus read, and as a plot",
         cmd_interface,
         "jaxcontact-out/interface",
     )

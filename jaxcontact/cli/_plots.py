@@ -194,3 +194,19 @@ def plot_dynamics(history, sweep_hz, sweep_amplitude, f_linear, preloads, resona
     ax.grid(True, which="both", alpha=0.3)
     paths.append(save_figure(fig, out / "resonance_vs_preload.png"))
     return paths
+
+
+def plot_interface(pressure, closure_m, stiffness, reference, path: pathlib.Path) -> str:
+    """The interface law per unit area: closure δ(p) − δ(p0) and k_n against nominal pressure."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, (left, right) = subplots(1, 2, figsize=(10, 4.2))
+    ok = np.isfinite(closure_m)
+    left.semilogx(pressure[ok], 1e9 * closure_m[ok], "o-", ms=3)
+    left.set(
+        xlabel="nominal pressure p (Pa)", ylabel="closure δ(p) − δ(p0) (nm)", title=f"Closure (p0 = {reference:g} Pa)"
+    )
+    right.loglog(pressure[ok], stiffness[ok], "o-", ms=3)
+    right.set(xlabel="nominal pressure p (Pa)", ylabel="k_n = K/A_a (Pa/m)", title="Normal stiffness per unit area")
+    for ax in (left, right):
+        ax.grid(True, which="both", alpha=0.3)
+    return save_figure(fig, path)
