@@ -220,3 +220,17 @@ def test_float32_gives_the_float64_closure_within_1e4(law):
         law32 = jc.interface_law(make_scene(**TABLE1), PRESSURES[::8].astype(np.float32))
         assert law32.closure.dtype == np.float32
         np.testing.assert_allclose(np.asarray(law32.closure)[1:], np.asarray(law.closure)[::8][1:], rtol=1e-4)
+
+
+@pytest.mark.parametrize(
+    "pressures, reference, message",
+    [
+        ([1e4, np.nan, 1e6], None, r"pressures\[1\] = nan Pa is not a valid pressure: .* \(valid range \(0, inf\) Pa"),
+        ([-1.0, 1e6], None, r"pressures\[0\] = -1.0 Pa is not a valid pressure"),
+        ([1e4, 1e6], -3.0, r"reference_pressure = -3.0 Pa is not a valid pressure"),
+        ([[1e4, 1e6]], None, r"pressures has shape \(1, 2\): give a 1-D array"),
+    ],
+)
+def test_bad_pressures_are_refused_by_name(scene, pressures, reference, message):
+    with pytest.raises(InputError, match=message):
+        jc.interface_law(scene, np.array(pressures), reference)

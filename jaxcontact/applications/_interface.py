@@ -66,10 +66,14 @@ def interface_law(
     pressures = jnp.asarray(pressures)
     if pressures.ndim != 1 or pressures.size == 0:
         raise InputError(f"pressures has shape {pressures.shape}: give a 1-D array of nominal pressures (Pa)")
+    if not isinstance(pressures, jax.core.Tracer):
+        _check_pressures("pressures", np.asarray(pressures))
     if reference_pressure is None:
         if isinstance(pressures, jax.core.Tracer):
             raise InputError("reference_pressure = None needs concrete pressures: give it when tracing them")
         reference_pressure = float(np.min(np.asarray(pressures)))
+    elif not isinstance(reference_pressure, jax.core.Tracer):
+        _check_pressures("reference_pressure", np.asarray(reference_pressure).reshape(1))
     area = scene.area
     loads = pressures * area
     solution = solve(scene, loads)
@@ -85,3 +89,15 @@ def interface_law(
         status=status,
         nominal_area=jnp.asarray(area, solution.stiffness.dtype),
     )
+
+
+def _check_pressures(name: str, values: np.ndarray) -> None:
+    """Concrete pressures are checked here, so that the message speaks of pressures in Pa (a load's
+    own check would name loads in N)."""
+    wrong = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+    if wrong.size:
+        where = f"{name}[{int(wrong[0])}]" if name == "pressures" else name
+        raise InputError(
+            f"{where} = {float(values[wrong[0]])!r} Pa is not a valid pressure: {name} must be finite and > 0 "
+            "(valid range (0, inf) Pa)"
+        )
