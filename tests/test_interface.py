@@ -13,7 +13,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from helpers import TABLE1, make_scene, scipy_approach
+from helpers import TABLE1, make_scene, refused_type, scipy_approach
 
 import jaxcontact as jc
 from jaxcontact import InputError
@@ -228,9 +228,13 @@ def test_float32_gives_the_float64_closure_within_1e4(law):
         ([1e4, np.nan, 1e6], None, r"pressures\[1\] = nan Pa is not a valid pressure: .* \(valid range \(0, inf\) Pa"),
         ([-1.0, 1e6], None, r"pressures\[0\] = -1.0 Pa is not a valid pressure"),
         ([1e4, 1e6], -3.0, r"reference_pressure = -3.0 Pa is not a valid pressure"),
-        ([[1e4, 1e6]], None, r"pressures has shape \(1, 2\): give a 1-D array"),
     ],
 )
 def test_bad_pressures_are_refused_by_name(scene, pressures, reference, message):
     with pytest.raises(InputError, match=message):
         jc.interface_law(scene, np.array(pressures), reference)
+
+
+def test_pressures_that_are_not_1d_are_refused(scene):
+    with refused_type("pressures", r"pressures has shape \(1, 2\): give a 1-D array"):
+        jc.interface_law(scene, np.array([[1e4, 1e6]]))
