@@ -2,6 +2,8 @@
 pressure–overclosure table read by a real FE code: CalculiX presses two elastic blocks together
 through it."""
 
+import contextlib
+import io
 import json
 import os
 import re
@@ -72,10 +74,11 @@ def test_the_table_starts_at_zero_and_ascends(scene, law):
 
 
 def test_the_table_leaves_out_flagged_pressures(scene):
-    law = jc.interface_law(scene, np.array([1e4, 1e6, 1e12]))  # 1e12 Pa is past F* = 1
+    # The table's pressures with the last past F* = 1 (the same shape: the same compiled programs).
+    law = jc.interface_law(scene, np.append(PRESSURES[:-1], 1e12))
     block = pressure_overclosure(scene, law)
-    assert int(law.status[2]) == int(jc.Status.LOAD_OUT_OF_RANGE)
-    assert block.rstrip().splitlines()[-1].startswith("1.000000000e+06,")
+    assert int(law.status[-1]) == int(jc.Status.LOAD_OUT_OF_RANGE)
+    assert block.rstrip().splitlines()[-1].startswith(f"{PRESSURES[-2]:.9e},")
 
 
 def test_a_table_with_nothing_above_the_reference_is_refused(scene):
@@ -195,19 +198,29 @@ def test_the_stacks_compliance_is_the_blocks_plus_the_interfaces(calculix, fract
     np.testing.assert_allclose(-top[fraction][:, 2], blocks - closure[fraction][:, 0], rtol=1e-6)
 
 
-def test_the_command_writes_the_law_and_the_fe_table(tmp_path, capsys):
-    argv = ["interface", "--pressures", "1e4", "1e8", "--points", "9", "--out", str(tmp_path), "--format", "json"]
-    assert main(argv) == 0
-    rows = json.loads(capsys.readouterr().out)["rows"]
+@pytest.fixture(scope="module")
+def command(tmp_path_factory):
+    """`jaxcontact interface` on the embedded scene at 9 pressures: its JSON rows and its folder."""
+    out = tmp_path_factory.mktemp("interface")
+    argv = ["interface", "--pressures", "1e4", "1e8", "--points", "9", "--out", str(out), "--format", "json"]
+    with contextlib.redirect_stdout(io.StringIO()) as printed:
+        assert main(argv) == 0
+    return json.loads(printed.getvalue())["rows"], out
+
+
+def test_the_command_gives_the_librarys_law(command):
+    rows, _ = command
     law = jc.interface_law(jc.table1_scene(), np.geomspace(1e4, 1e8, 9))
     np.testing.assert_allclose([r["closure_m"] for r in rows], law.closure, rtol=1e-12)
-    lines = (tmp_path / "interface.inp").read_text().splitlines()
+
+
+def test_the_commands_fe_table_has_a_row_per_pressure_above_the_reference(command):
+    lines = (command[1] / "interface.inp").read_text().splitlines()
     assert len(lines) == 6 + 1 + 1 + 8  # provenance, keyword, the row "0., 0.", the 8 pressures above p0
 
 
-def test_the_command_draws_the_law(tmp_path):
-    assert main(["interface", "--points", "5", "--out", str(tmp_path), "--no-progress"]) == 0
-    assert (tmp_path / "interface.png").stat().st_size > 10_000
+def test_the_command_draws_the_law(command):
+    assert (command[1] / "interface.png").stat().st_size > 10_000
 
 
 def test_the_command_refuses_pressures_out_of_order(tmp_path, capsys):
