@@ -12,7 +12,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..core import Scene, solve
-from ..numerics import InputError
+from ..numerics import InputError, check_positive
 from ..quantities import Status
 from ._approach_sum import approach_quadrature
 
@@ -69,14 +69,14 @@ def interface_law(
     pressures = jnp.asarray(pressures)
     if pressures.ndim != 1 or pressures.size == 0:
         raise InputError(f"pressures has shape {pressures.shape}: give a 1-D array of nominal pressures (Pa)")
-    if not isinstance(pressures, jax.core.Tracer):
-        _check_pressures("pressures", np.asarray(pressures))
+    # Checked here, so that a message speaks of pressures in Pa (the solve's own check names loads in N).
+    check_positive("pressures", pressures, "Pa", "pressure")
     if reference_pressure is None:
         if isinstance(pressures, jax.core.Tracer):
             raise InputError("reference_pressure = None needs concrete pressures: give it when tracing them")
         reference_pressure = float(np.min(np.asarray(pressures)))
-    elif not isinstance(reference_pressure, jax.core.Tracer):
-        _check_pressures("reference_pressure", np.asarray(reference_pressure).reshape(1))
+    else:
+        check_positive("reference_pressure", reference_pressure, "Pa", "pressure")
     if nodes is None:
         nodes = 8 if isinstance(pressures, jax.core.Tracer) else quadrature_nodes(pressures, reference_pressure)
     area = scene.area
@@ -111,15 +111,3 @@ def quadrature_nodes(pressures, reference_pressure) -> int:
     log_p = np.log(np.unique(np.append(np.asarray(pressures, dtype=float), float(reference_pressure))))
     widest = float(np.max(np.diff(log_p))) if log_p.size > 1 else 0.0
     return next((n for width, n in FEWER_NODES if widest <= width), 8)
-
-
-def _check_pressures(name: str, values: np.ndarray) -> None:
-    """Concrete pressures are checked here, so that the message speaks of pressures in Pa (a load's
-    own check would name loads in N)."""
-    wrong = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
-    if wrong.size:
-        where = f"{name}[{int(wrong[0])}]" if name == "pressures" else name
-        raise InputError(
-            f"{where} = {float(values[wrong[0]])!r} Pa is not a valid pressure: {name} must be finite and > 0 "
-            "(valid range (0, inf) Pa)"
-        )

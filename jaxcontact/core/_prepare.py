@@ -10,28 +10,10 @@ import numpy as np
 
 from ..numerics import register_cache
 from ..numerics._compat import top_level
-from ..numerics._validate import InputError, check_instance, concrete
+from ..numerics._validate import InputError, check_instance, check_positive
 from ..quantities._domain import PARAMETERS, scene_fields
 from ._scene import Scene
 from ._settings import Outputs
-
-
-def _check_loads(loads) -> None:
-    values = concrete(loads)
-    if values is None:
-        return
-    # Two reductions decide the common case; NaN fails `> 0` and falls through to the search.
-    if values.size and values.min() > 0 and values.max() < np.inf:
-        return
-    bad = ~(np.isfinite(values) & (values > 0))
-    if np.any(bad):
-        where = np.argwhere(bad)[0]
-        index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
-        raise InputError(
-            f"loads{index} = {float(values[tuple(where)])!r} N is not a valid load: "
-            "loads must be finite and > 0 (valid range (0, inf) N)"
-        )
-
 
 _DTYPES: dict = {}
 
@@ -129,7 +111,7 @@ def _prepare(scene: Scene, loads, outputs: Outputs = Outputs()):
     last, last_dtype, last_prepared = _last_loads
     seen = last is loads
     if not seen:
-        _check_loads(loads)
+        check_positive("loads", loads, "N", "load")
     dtype, tree, leaves, treedef = _scene_leaves(scene, outputs, loads)
     if seen and last_dtype == dtype:
         return tree, leaves, treedef, last_prepared

@@ -159,6 +159,26 @@ def check_range(
         raise InputError(f"{assigned(name, _describe(values), meaning)} is outside its valid range {interval}")
 
 
+def check_positive(name: str, value, unit: str, noun: str) -> None:
+    """Raise `InputError` naming the first element of a concrete `value` that is not finite and > 0,
+    e.g. "loads[3] = nan N is not a valid load: loads must be finite and > 0 (valid range (0, inf) N)".
+    Traced values are not checked."""
+    values = concrete(value)
+    if values is None:
+        return
+    # Two reductions decide the common case; NaN fails `> 0` and falls through to the search.
+    if values.size and values.min() > 0 and values.max() < np.inf:
+        return
+    bad = ~(np.isfinite(values) & (values > 0))
+    if np.any(bad):
+        where = np.argwhere(bad)[0]
+        index = f"[{', '.join(map(str, where))}]" if values.ndim else ""
+        raise InputError(
+            f"{name}{index} = {float(values[tuple(where)])!r} {unit} is not a valid {noun}: "
+            f"{name} must be finite and > 0 (valid range (0, inf) {unit})"
+        )
+
+
 def check_choice(name: str, value, choices: tuple[str, ...]) -> None:
     if value not in choices:
         allowed = ", ".join(repr(c) for c in choices)
