@@ -48,9 +48,7 @@ def interface_csv(scene: Scene, law: InterfaceLaw) -> str:
     normal_stiffness_Pa_per_m, contact_fraction, status)."""
     lines = [f"# {line}" for line in provenance(scene, law)]
     lines.append("pressure_Pa,closure_m,normal_stiffness_Pa_per_m,contact_fraction,status")
-    for p, d, k, f, s in zip(
-        *(np.asarray(x) for x in (law.pressure, law.closure, law.normal_stiffness, law.contact_fraction, law.status))
-    ):
+    for p, d, k, f, s in zip(*(np.asarray(getattr(law, name)) for name in InterfaceLaw.columns)):
         lines.append(f"{p:.9e},{d:.9e},{k:.9e},{f:.9e},{int(s)}")
     return "\n".join(lines) + "\n"
 

@@ -5,6 +5,8 @@ and Abaqus read."""
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -40,6 +42,8 @@ class InterfaceLaw(eqx.Module):
     contact_fraction: Float[Array, " pressures"]
     status: Int[Array, " pressures"]
     nominal_area: Float[Array, ""]
+    # The per-pressure fields, in the order the CSV and the command's table give them.
+    columns: ClassVar[tuple[str, ...]] = ("pressure", "closure", "normal_stiffness", "contact_fraction", "status")
 
 
 def interface_law(

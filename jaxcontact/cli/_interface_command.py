@@ -9,7 +9,6 @@ from ._output import CommandError, print_result
 # Default pressures: F* = p/E from 1e-9 to 1e-4, the range of the paper's curves.
 DEFAULT_PRESSURES_OVER_E = (1e-9, 1e-4)
 FILES = ("interface.csv", "interface.inp")
-COLUMNS = ("pressure", "closure", "normal_stiffness", "contact_fraction", "status")
 
 
 def cmd_interface(args) -> int:
@@ -38,7 +37,7 @@ def cmd_interface(args) -> int:
     (out / FILES[1]).write_text(pressure_overclosure(scene, law))
     from ._plots import plot_interface
 
-    columns = [np.asarray(getattr(law, name)) for name in COLUMNS]
+    columns = [np.asarray(getattr(law, name)) for name in law.columns]
     figure = plot_interface(columns[0], columns[1], columns[2], reference, out / "interface.png")
     files = [str(out / name) for name in FILES] + [figure]
     rows = [
