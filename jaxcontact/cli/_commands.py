@@ -66,7 +66,7 @@ def cmd_run(args) -> int:
 
     files = [str(out / "results.csv")] + plot_sweep(solution, spec.title, out)
     if band is not None:
-        from ._surface_commands import plot_band
+        from ._surface_plots import plot_band
 
         curves = {name: K for name, (K, _) in others.items()}
         files.append(plot_band(band, spec.title, out / "stiffness_band.png", curves, spec.scene.model.name))

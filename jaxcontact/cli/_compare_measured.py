@@ -54,6 +54,7 @@ def compare_measured(args, out, cache, progress) -> int:
     from ._surface_commands import characterise_file
 
     topography, c = characterise_file(args)
+    separation = topography.info["separation"]
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
     topography, coarsening = _on_grid(topography, args.grid)
@@ -95,7 +96,7 @@ def compare_measured(args, out, cache, progress) -> int:
     summary = (
         f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
         + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
-        + ")\n"
+        + f")\n{separation}\n"
         f"{comparison_table(rows, list(comparison.models))}\n"
         + (
             f"\nD, G of each model fitted to the BEM curve (the surface's own: D = {c.D:.4f}, "

@@ -14,6 +14,9 @@ from ._scenefile import DEFAULT_SCENE
 # same surface; GW grows as (L/l_min)^0.13–0.16 and the seed model as (L/l_min)^0.24–0.38 from it.
 CLOSEST_TO_BEM = "persson"
 
+# `--form`'s names: those of `topography._separate.FORMS` (a test checks), without importing it here.
+FORMS = ("curvature", "tilt", "polynomial", "mean")
+
 
 def add_topography_options(p) -> None:
     p.add_argument(
@@ -44,6 +47,21 @@ def add_topography_options(p) -> None:
         help="fill NaN or missing points by interpolation, up to 15 %% of them (default: refuse such a file)",
     )
     p.add_argument(
+        "--form",
+        choices=FORMS,
+        default="curvature",
+        help="the form removed before anything else: a quadric (curvature, the default, which the spectrum's "
+        "estimate removes too), a plane (tilt), a polynomial of --form-degree, or the mean height alone",
+    )
+    p.add_argument("--form-degree", type=int, default=3, help="the degree of --form polynomial (1-10, default 3)")
+    p.add_argument(
+        "--waviness-cutoff",
+        type=float,
+        metavar="LAMBDA",
+        help="split off wavelengths longer than LAMBDA (m) as waviness, by ISO 16610's Gaussian filter: the "
+        "spectrum and the BEM see the roughness alone (default: no split)",
+    )
+    p.add_argument(
         "--groups",
         type=int,
         help="independent groups for the structure function's uncertainty (default: 16 blocks of line scans of "
@@ -52,11 +70,15 @@ def add_topography_options(p) -> None:
 
 
 def read_file(args, path):
-    """Read `path` as the options say."""
-    from ..topography import read
+    """Read `path` as the options say, its form removed and its waviness split off: the roughness, with
+    what was removed in its `info["separation"]`."""
+    from ..topography import Polynomial, read, separate
+    from ..topography._separate import FORMS as KINDS
 
     size = None if args.size is None else (args.size[0] if len(args.size) == 1 else tuple(args.size))
-    return read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+    topography = read(path, size=size, unit=args.unit, tip_radius=args.tip_radius, fill_undefined=args.fill_undefined)
+    form = Polynomial(args.form_degree) if args.form == "polynomial" else KINDS[args.form]()
+    return separate(topography, form, args.waviness_cutoff).roughness
 
 
 def characterise_file(args, method: str = "psd"):
@@ -136,27 +158,10 @@ def summary_text(c, name: str) -> str:
     return "\n".join(lines)
 
 
-def _spectrum_figure(c, ylabel, xlabel, path):
-    from ._plots import save_figure, subplots
-
-    fig, ax = subplots()
-    x, y = c.spectrum
-    keep = (x > 0) & (y > 0)
-    ax.loglog(x[keep], y[keep], ".", ms=2, color="0.5", label="measured (mean of groups)")
-    ax.loglog(*c.fit, "-", color="C3", label=f"fit: D = {c.D:.3f}")
-    ax.axvspan(*c.band, color="C0", alpha=0.12, label="fit band")
-    if c.reliability_cutoff:
-        ax.axvline(c.reliability_cutoff, color="k", ls="--", lw=1, label="tip reliability cutoff")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.legend(fontsize=8)
-    return save_figure(fig, path)
-
-
 def cmd_surface(args) -> int:
     from ..numerics import InputError
     from ..topography import NoBandError, characterise, compared
-    from ._surface_plots import psd_figure
+    from ._surface_plots import psd_figure, spectrum_figure
 
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -187,7 +192,7 @@ def cmd_surface(args) -> int:
     notes = []
     try:
         sf = characterise(topography, method="structure-function", groups=args.groups)
-        files.append(_spectrum_figure(sf, "S(τ) (m²)", "τ (m)", out / "structure_function.png"))
+        files.append(spectrum_figure(sf, "S(τ) (m²)", "τ (m)", out / "structure_function.png"))
         c = compared(c, sf)
     except InputError as exc:
         sf = None
@@ -196,12 +201,13 @@ def cmd_surface(args) -> int:
     title = re.sub(r'["\\]', "", f"{name} ({c.kind.name}, {c.method} fit)")
     scene_path.write_text(scene_text(c, title))
     files.append(str(scene_path))
-    text = summary_text(c, name)
+    text = summary_text(c, name) + f"\n  {topography.info['separation']}"
     if sf is not None:
         text += f"\n  structure function: D = {sf.D:.4f} ± {sf.stderr['D']:.4f}, G = {sf.G:.4g} m (W-M)"
     text += "".join(f"\n  {n}" for n in notes) + "\n\n" + "\n".join(f"wrote {f}" for f in files)
     payload = {
         "file": str(args.file[0]),
+        "separation": topography.info["separation"],
         "psd": describe(c),
         "structure_function": None if sf is None else describe(sf),
     }
@@ -209,54 +215,17 @@ def cmd_surface(args) -> int:
     return 0
 
 
-def plot_band(band, title, path, others=None, model: str = "") -> str:
-    """K(F) with its 95 % band from the surface's (D, G) uncertainty, and other models' K as lines; a
-    model without a positive K at any load is named on the plot instead of drawn."""
-    import numpy as np
-
-    from ._plots import save_figure, subplots
-
-    fig, ax = subplots()
-    positive = np.isfinite(band.stiffness) & (band.stiffness > 0)
-    missing = []
-    if positive.any():
-        ax.loglog(
-            band.load[positive], band.stiffness[positive], "-", color="C0", label=f"{model} at the surface's D, G"
-        )
-        ax.fill_between(
-            band.load[positive], band.lower[positive], band.upper[positive], color="C0", alpha=0.25, label="95 % band"
-        )
-    else:
-        missing.append(model)
-    for k, (name, K) in enumerate((others or {}).items()):
-        drawn = np.isfinite(K) & (K > 0)
-        if drawn.any():
-            ax.loglog(band.load[drawn], K[drawn], "--", color=f"C{k + 1}", lw=1, label=name)
-        else:
-            missing.append(name)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    if missing:
-        ax.text(0.02, 0.02, "no positive K at any load: " + ", ".join(missing), transform=ax.transAxes, fontsize=8)
-    ax.set_xlabel("F (N)")
-    ax.set_ylabel("K (N/m)")
-    ax.set_title(title, fontsize=8)
-    ax.legend(fontsize=8)
-    return save_figure(fig, path)
-
-
 def _stitched(args, out: pathlib.Path) -> int:
     """`surface FILE1 FILE2 ...`: one power law over the measurements' bands joined."""
     from ..numerics import InputError
     from ..topography import characterise_stitched
+    from ._surface_plots import psd_figure_stitched
 
     if args.band is not None:
         raise InputError("--band applies to one file; stitched measurements each find their own band")
     c = characterise_stitched([read_file(args, path) for path in args.file], accept_mismatch=args.accept_mismatch)
     names = " + ".join(pathlib.Path(f).name for f in args.file)
-    files = [
-        psd_figure_stitched(c, out / "psd.png"),
-    ]
+    files = [psd_figure_stitched(c, out / "psd.png")]
     scene_path = out / "surface.toml"
     scene_path.write_text(scene_text(c, re.sub(r'["\\]', "", f"{names} (stitched psd fit)")))
     files.append(str(scene_path))
@@ -264,17 +233,3 @@ def _stitched(args, out: pathlib.Path) -> int:
     payload = {"files_in": [str(f) for f in args.file], "psd": describe(c), "files": files}
     print_result(payload, args.format, text)
     return 0
-
-
-def psd_figure_stitched(c, path) -> str:
-    from ._surface_plots import psd_figure
-
-    return psd_figure(
-        c.spectrum,
-        (c.spectrum[0], c.spectrum[0] * float("nan")),
-        path,
-        ylabel=c.kind.psd_label,
-        fit=c.fit,
-        D=c.D,
-        band=c.band,
-    )

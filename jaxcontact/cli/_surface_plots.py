@@ -43,3 +43,64 @@ def psd_figure(spectrum, local, path, *, ylabel, fit=None, D=None, band=None, su
     bx.set_xlabel("wavelength (m)")
     bx.legend(fontsize=8, loc="lower left")
     return save_figure(fig, path)
+
+
+def spectrum_figure(c, ylabel, xlabel, path):
+
+    fig, ax = subplots()
+    x, y = c.spectrum
+    keep = (x > 0) & (y > 0)
+    ax.loglog(x[keep], y[keep], ".", ms=2, color="0.5", label="measured (mean of groups)")
+    ax.loglog(*c.fit, "-", color="C3", label=f"fit: D = {c.D:.3f}")
+    ax.axvspan(*c.band, color="C0", alpha=0.12, label="fit band")
+    if c.reliability_cutoff:
+        ax.axvline(c.reliability_cutoff, color="k", ls="--", lw=1, label="tip reliability cutoff")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
+def plot_band(band, title, path, others=None, model: str = "") -> str:
+    """K(F) with its 95 % band from the surface's (D, G) uncertainty, and other models' K as lines; a
+    model without a positive K at any load is named on the plot instead of drawn."""
+    fig, ax = subplots()
+    positive = np.isfinite(band.stiffness) & (band.stiffness > 0)
+    missing = []
+    if positive.any():
+        ax.loglog(
+            band.load[positive], band.stiffness[positive], "-", color="C0", label=f"{model} at the surface's D, G"
+        )
+        ax.fill_between(
+            band.load[positive], band.lower[positive], band.upper[positive], color="C0", alpha=0.25, label="95 % band"
+        )
+    else:
+        missing.append(model)
+    for k, (name, K) in enumerate((others or {}).items()):
+        drawn = np.isfinite(K) & (K > 0)
+        if drawn.any():
+            ax.loglog(band.load[drawn], K[drawn], "--", color=f"C{k + 1}", lw=1, label=name)
+        else:
+            missing.append(name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    if missing:
+        ax.text(0.02, 0.02, "no positive K at any load: " + ", ".join(missing), transform=ax.transAxes, fontsize=8)
+    ax.set_xlabel("F (N)")
+    ax.set_ylabel("K (N/m)")
+    ax.set_title(title, fontsize=8)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
+def psd_figure_stitched(c, path) -> str:
+
+    return psd_figure(
+        c.spectrum,
+        (c.spectrum[0], c.spectrum[0] * float("nan")),
+        path,
+        ylabel=c.kind.psd_label,
+        fit=c.fit,
+        D=c.D,
+        band=c.band,
+    )

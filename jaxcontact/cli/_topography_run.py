@@ -69,7 +69,7 @@ def topography_run(spec, args):
     from ..topography import stiffness_band
     from ._surface_commands import CLOSEST_TO_BEM, characterise_file
 
-    _, c = characterise_file(args)
+    topography, c = characterise_file(args)
     surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
     model = args.model or CLOSEST_TO_BEM
     scene = _scene(spec.scene, model, surface, args)
@@ -77,7 +77,7 @@ def topography_run(spec, args):
     title = f"{name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {surface.l_min:.4g} m; model {model}"
     band = stiffness_band(c, scene, spec.loads)
     why = " (the closest to the boundary-element reference, docs/validation.md; --model to choose)"
-    notes = [f"model: {model}" + ("" if args.model else why)]
+    notes = [f"model: {model}" + ("" if args.model else why), topography.info["separation"]]
     others = {}
     for other in MODELS:
         if other == model or other in NOT_COMPARED:

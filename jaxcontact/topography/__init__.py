@@ -16,13 +16,20 @@ from ._kind import AbstractKind, AbstractMeasurementKind, Areal, Profile, Stitch
 from ._psd import NoBandError
 from ._read import read
 from ._result import Characterisation
+from ._separate import AbstractForm, Curvature, Mean, Polynomial, Separated, Tilt, separate
 from ._stitch import characterise_stitched
 from ._synthesis import areal_map, random_profile, wm_profile
 from ._uncertainty import StiffnessBand, stiffness_band
 
 __all__ = [
     "CONVENTIONS",
+    "AbstractForm",
     "AbstractKind",
+    "Curvature",
+    "Mean",
+    "Polynomial",
+    "Separated",
+    "Tilt",
     "AbstractMeasurementKind",
     "Areal",
     "Profile",
@@ -40,6 +47,7 @@ __all__ = [
     "profile_prefactor",
     "random_profile",
     "read",
+    "separate",
     "stiffness_band",
     "structure_function_constant",
     "wm_profile",

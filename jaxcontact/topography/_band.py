@@ -217,16 +217,16 @@ def _tilted(p: Binned, straight, corrected) -> bool:
 
 
 def select_band(
-    spectrum: Spectrum, q_max: float | None = None, slope: float | None = None
+    spectrum: Spectrum, q_max: float | None = None, slope: float | None = None, q_min: float | None = None
 ) -> PowerLaw | tuple[float, float] | None:
-    """The widest power-law band of `spectrum` (the module's criterion), bounded above by `q_max`;
+    """The widest power-law band of `spectrum` (the module's criterion), within `[q_min, q_max]`;
     with `slope` given, the power law's intercept alone over that band (D held).
 
     **Returns:** a `PowerLaw`; or, where no window passes, the wavelengths (short, long) in m of the
     window that comes closest (the best straight fit with 1 < D < 2 over a factor 4), to suggest;
     or None when no stretch of the spectrum has a self-affine slope.
     """
-    p = prepare(spectrum, q_max)
+    p = prepare(spectrum, q_max, q_min)
     if p is None:
         return None
     straight, rolled, reduced, D, wide = _windows(p, spectrum.D_of)
@@ -257,11 +257,7 @@ def select_band(
     inside = slice(i, j + 1)
     longest = float(p.q[i])
     if i == 0:
-        long = (
-            f"fewer than {MIN_MODES} independent modes per bin beyond it"
-            if p.lost_long
-            else "the measurement's longest wavelength"
-        )
+        long = p.long_cause
         if long_end:
             longest = float(p.long_end.q[0])
             long = f"the measurement's longest wavelength (bins of < {MIN_MODES} modes in the likelihood fit only)"

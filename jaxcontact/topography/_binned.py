@@ -32,7 +32,7 @@ class Binned:
     z: np.ndarray  # B × 3: the 2nd to 4th cumulants of u across each bin's modes over k! (`rolloff_offset`)
     q: np.ndarray
     floor: float
-    lost_long: bool  # bins dropped at the long end for too few modes
+    long_cause: str  # what ends the usable bins at the long end
     short_cause: str
     mean: np.ndarray  # the bins' mean periodogram, the floor not subtracted
     shape: np.ndarray  # Gamma shape of each bin's mean: modes / scatter
@@ -43,10 +43,18 @@ class Binned:
     short_end: Binned | None = None
 
 
-def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
-    """The bins a band may use: enough modes, below `q_max`, above a subtracted noise floor; None
-    where fewer than five remain."""
+def prepare(spectrum: Spectrum, q_max: float | None, q_min: float | None = None) -> Binned | None:
+    """The bins a band may use: enough modes, between `q_min` and `q_max`, above a subtracted noise
+    floor; None where fewer than five remain."""
     keep = (spectrum.modes >= MIN_MODES) & (spectrum.C > 0)
+    long_cause = (
+        f"fewer than {MIN_MODES} independent modes per bin beyond it"
+        if spectrum.modes[0] < MIN_MODES
+        else "the measurement's longest wavelength"
+    )
+    if q_min is not None and np.any(spectrum.q < q_min):
+        keep &= spectrum.q >= q_min
+        long_cause = "the waviness cutoff (beyond it the roughness keeps less than 99 % of the amplitude)"
     short_cause = "the grid's shortest wavelength (two spacings)"
     if q_max is not None and np.any(spectrum.q > q_max):
         keep &= spectrum.q <= q_max
@@ -67,11 +75,11 @@ def prepare(spectrum: Spectrum, q_max: float | None) -> Binned | None:
         short_cause = f"the noise floor (within {FLOOR_MARGIN:g}× of it beyond; fitted there beside the power law)"
         if q.size < 5:
             return None
-    lost_long = bool(spectrum.modes[0] < MIN_MODES)
-    p = binned(q, C, modes, scatter, floor, lost_long, short_cause, q2, cumulants)
+    p = binned(q, C, modes, scatter, floor, long_cause, short_cause, q2, cumulants)
     if beyond is not None and beyond.size:
         p = dataclasses.replace(p, short_end=_rows_of(spectrum, beyond, p))
     few = (spectrum.modes >= 1) & (spectrum.modes < MIN_MODES) & (spectrum.C > 0) & (spectrum.q < q[0])
+    few &= spectrum.q >= (q_min or 0.0)
     if not few.any():
         return p
     return dataclasses.replace(p, long_end=_rows_of(spectrum, few, p))
@@ -97,7 +105,7 @@ def binned(
     modes,
     scatter,
     floor=0.0,
-    lost_long=False,
+    long_cause="",
     short_cause="",
     q_squared=None,
     q_squared_cumulants=None,
@@ -125,7 +133,7 @@ def binned(
         else q_squared_cumulants * (-1.0 / q_top**2) ** ORDERS / FACTORIALS,
         q=q,
         floor=floor,
-        lost_long=lost_long,
+        long_cause=long_cause,
         short_cause=short_cause,
         mean=C + floor,
         shape=k,

@@ -11,6 +11,7 @@ from ..numerics._validate import InputError, spelled
 from ._band import MIN_MODES, MIN_RATIO, PowerLaw, fit_band, select_band
 from ._checks import widened_for_filling
 from ._result import Characterisation
+from ._separate import lowest_roughness_q
 from ._whole import local_slopes, whole_spectrum
 
 
@@ -72,7 +73,8 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
             f"Fourier modes (at least {MIN_MODES} per bin over a factor {MIN_RATIO:g} in wavelength are needed)"
         )
     if band is None:
-        law = select_band(spectrum, q_max, None if D is None else spectrum.slope_of(float(D)))
+        held = None if D is None else spectrum.slope_of(float(D))
+        law = select_band(spectrum, q_max, held, lowest_roughness_q(topography))
         if not isinstance(law, PowerLaw):
             slopes = _q_and_D(local_slopes(spectrum))
             raise NoBandError(

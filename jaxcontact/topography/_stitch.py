@@ -15,6 +15,7 @@ from ._band import CALIBRATION, PowerLaw, select_band
 from ._kind import Stitched
 from ._psd import NoBandError, _q_and_D
 from ._result import Characterisation
+from ._separate import lowest_roughness_q
 from ._whole import local_slopes, whole_spectrum
 
 # Above this χ²/ν of the joint power law the measurements are not of one spectrum: a unit or
@@ -26,7 +27,7 @@ def _measured(topography, index: int):
     rows, dx, _, periodic, kind = spectra.rows_of(topography)
     spectrum = whole_spectrum(kind.heights(rows), dx, periodic)
     cutoff = topography.short_reliability_cutoff()
-    law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff)
+    law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff, q_min=lowest_roughness_q(topography))
     if not isinstance(law, PowerLaw):
         raise NoBandError(
             f"measurement {index + 1} has no power-law band of its own to join (characterise it alone to see why)",

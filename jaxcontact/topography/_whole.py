@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from ._kind import AbstractMeasurementKind, Areal, Profile
+from ._separate import polynomial_fit
 from ._spectra import DETREND_DEGREE
 
 BINS_PER_DECADE = 20
@@ -59,15 +60,7 @@ class Spectrum:
 
 def _detrended(heights: np.ndarray) -> np.ndarray:
     """`heights` less a least-squares polynomial: a cubic for a profile, a quadric surface for a map."""
-    if heights.ndim == 1:
-        x = np.linspace(-1.0, 1.0, heights.size)
-        basis = np.polynomial.legendre.legvander(x, DETREND_DEGREE)
-    else:
-        x, y = np.meshgrid(*(np.linspace(-1.0, 1.0, n) for n in heights.shape), indexing="ij")
-        basis = np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1).reshape(-1, 6)
-    # Normal equations: a few columns against millions of rows, well conditioned on [-1, 1].
-    coefficients = np.linalg.solve(basis.T @ basis, basis.T @ heights.reshape(-1))
-    return heights - (basis @ coefficients).reshape(heights.shape)
+    return heights - polynomial_fit(heights, DETREND_DEGREE if heights.ndim == 1 else 2)
 
 
 def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BINS_PER_DECADE) -> Spectrum:
