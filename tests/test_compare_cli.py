@@ -1,6 +1,8 @@
 """`jaxcontact compare`: the table, files and errors of the command (small grids)."""
 
+import io
 import json
+from contextlib import redirect_stdout
 
 import numpy as np
 import pytest
@@ -91,12 +93,38 @@ def test_a_non_periodic_measured_map_needs_a_substrate(measured_map, capsys, tmp
     assert "not periodic: choose --substrate free (an isolated" in capsys.readouterr().err
 
 
+MAP_ARGV = ["--size", "1e-4", "1e-4", "--substrate", "periodic", "--no-fit", "--grid", "128", "--no-progress"]
+
+
 def test_compare_on_a_measured_map(measured_map, capsys, tmp_path):
-    argv = ["compare", "--topography", str(measured_map), "--size", "1e-4", "1e-4", "--substrate", "periodic"]
-    argv += ["--no-fit", "--grid", "128", "--out", str(tmp_path), "--cache-dir", str(tmp_path / "cache")]
-    assert main([*argv, "--no-progress"]) == 0
+    argv = ["compare", "--topography", str(measured_map), *MAP_ARGV, "--out", str(tmp_path)]
+    assert main(argv) == 0
     assert "BEM on the measured heights, 128 x 128, coarsened 4x to --grid 128" in capsys.readouterr().out
-    assert main([*argv, "--no-progress", "--format", "json"]) == 0
-    rows = json.loads(capsys.readouterr().out)["rows"]
-    fractions = [row["contact_fraction_bem"] for row in rows]
+
+
+@pytest.fixture(scope="module")
+def measured_rows(measured_map, tmp_path_factory):
+    out = tmp_path_factory.mktemp("measured")
+    argv = ["compare", "--topography", str(measured_map), *MAP_ARGV, "--out", str(out), "--format", "json"]
+    with redirect_stdout(io.StringIO()) as printed:
+        assert main(argv) == 0
+    return json.loads(printed.getvalue())
+
+
+def test_the_loads_span_the_bems_contact_fractions(measured_rows):
+    fractions = [row["contact_fraction_bem"] for row in measured_rows["rows"]]
     assert 0.003 < fractions[0] < fractions[-1] < 0.3
+
+
+def test_a_rough_map_gets_no_note_on_its_form(measured_rows):
+    assert measured_rows["notes"] == []
+
+
+def test_a_map_whose_form_carries_the_load_gets_a_note(measured_map, capsys, tmp_path):
+    """The same roughness on a paraboloid 20 times its rms high, the form left in: K_BEM ∝ F^0.67."""
+    z = np.loadtxt(measured_map)
+    x = np.linspace(-1.0, 1.0, z.shape[0])
+    np.savetxt(tmp_path / "domed.txt", z + 20 * np.std(z) * (x[:, None] ** 2 + x[None, :] ** 2))
+    argv = ["compare", "--topography", str(tmp_path / "domed.txt"), *MAP_ARGV, "--form", "mean", "--format", "json"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    assert json.loads(capsys.readouterr().out)["notes"][0].startswith("note: K_BEM ∝ F^0.6")
