@@ -12,7 +12,16 @@ docs/architecture.md; the subpackages (`jaxcontact.models`, `jaxcontact.physics`
 """
 
 from .bem import BEM
-from .core import Outputs, Scene, Solution, solve, stack_scenes, table1_scene
+from .core import (
+    Outputs,
+    Scene,
+    Solution,
+    dynamic_stiffness,
+    solve,
+    stack_scenes,
+    table1_scene,
+    tangential_stiffness,
+)
 from .models import (
     DISTRIBUTIONS,
     INTERACTIONS,
@@ -53,15 +62,20 @@ from .physics import (
     AbstractDistribution,
     AbstractInteraction,
     AbstractSpotStiffness,
+    AbstractStiffness,
     FamilyDerivative,
+    Loading,
     MajumdarBhushan,
     NoInteraction,
     PaperInteraction,
     SeriesInteraction,
     Sneddon,
+    TangentialStick,
+    Unloading,
     WangKomvopoulos,
     hertz_stiffness,
     kogut_etsion_laws,
+    mindlin_ratio,
     size_distribution,
 )
 from .quantities import (
@@ -105,6 +119,13 @@ __all__ = [
     "table1_scene",
     "solve",
     "Outputs",
+    "AbstractStiffness",
+    "Loading",
+    "Unloading",
+    "TangentialStick",
+    "dynamic_stiffness",
+    "tangential_stiffness",
+    "mindlin_ratio",
     "NewtonBisection",
     "Solution",
     "Status",

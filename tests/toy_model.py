@@ -58,3 +58,6 @@ class AllElasticJoint(AbstractJoint):
         stiffness = (hertz_stiffness(self.D) * n).integral(self.log_a_min, log_a_l)[None]
         area = (PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D)) * n).integral(self.log_a_min, log_a_l)
         return JointResponse(self.regime_load(log_a_l), stiffness, area, jnp.array(False))
+
+    def unloading_stiffness(self, log_a_l, log_load):
+        return self.response(log_a_l, log_load).regime_stiffness, jnp.array(False)  # elastic spots

@@ -69,6 +69,10 @@ class BEM(AbstractSweptModel):
         check_range("rolloff", self.rolloff, 0.0, 64.0, low_open=False)
         check_iteration(self.tolerance, self.max_iterations)
 
+    def unloads_as_it_loads(self):
+        # Elastic: unloading retraces loading. A capped surface keeps its flattening (a load path).
+        return not self.plastic
+
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 

@@ -2,13 +2,14 @@
 `Solution`, and the default scene."""
 
 from ._defaults import table1_scene, table1_values
-from ._loadcontrol import kink_log_loads, point_solver, solve
+from ._loadcontrol import dynamic_stiffness, kink_log_loads, point_solver, solve, tangential_stiffness
 from ._prepare import prepare
 from ._scene import Scene, stack_scenes
 from ._settings import Outputs
 from ._solution import Solution
 
 __all__ = [
+    "dynamic_stiffness",
     "kink_log_loads",
     "Outputs",
     "point_solver",
@@ -19,4 +20,5 @@ __all__ = [
     "stack_scenes",
     "table1_scene",
     "table1_values",
+    "tangential_stiffness",
 ]

@@ -11,6 +11,8 @@ gradients of the other points are exactly what they would be alone.
 
 from __future__ import annotations
 
+import functools
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -20,6 +22,7 @@ from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
 from ..numerics import LoadsLike
 from ..numerics._elementwise import unrolled_sum
+from ..physics import TangentialStick, Unloading
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
 from ..quantities._domain import PARAMETERS, all_valid, scene_fields, valid_fields
@@ -87,12 +90,15 @@ def _solve(tree: tuple[Scene, Outputs], loads):
     # would give the scales a NaN derivative that the masking cannot remove (0 · NaN).
     usable = jnp.isfinite(loads) & (loads > 0)
     load_star = jnp.where(usable, jnp.where(usable, loads, 1.0) / scales.load, loads)
-    points = _flagged(guarded, in_domain, model_curve_solver)(load_star.reshape(-1))
+    kind = outputs.stiffness
+    build = functools.partial(model_curve_solver, unloading=kind.unloading)
+    points = _flagged(guarded, in_domain, build)(load_star.reshape(-1))
     log_a_l, response, status = points.log_a_l, points.response, points.status
     shape = loads.shape
     solved = is_solved(status)
     ok = status == Status.OK
-    stiffness_total = unrolled_sum(response.regime_stiffness)
+    regime_stiffness = kind.of_normal(response.regime_stiffness, guarded.material.nu)
+    stiffness_total = unrolled_sum(regime_stiffness)
     a_l_star = jnp.exp(log_a_l)
     load_share = stiffness_share = None
     regimes = scene.model.regimes
@@ -100,9 +106,7 @@ def _solve(tree: tuple[Scene, Outputs], loads):
         load_total = jnp.where(solved, unrolled_sum(response.regime_load), 1.0)[:, None]
         positive = jnp.where(ok & (stiffness_total > 0), stiffness_total, 1.0)[:, None]  # K = 0: all plastic
         load_share = masked_rescale(solved[:, None], response.regime_load / load_total).reshape(shape + (len(regimes),))
-        stiffness_share = masked_rescale(ok[:, None], response.regime_stiffness / positive).reshape(
-            shape + (len(regimes),)
-        )
+        stiffness_share = masked_rescale(ok[:, None], regime_stiffness / positive).reshape(shape + (len(regimes),))
     return Solution(
         load=loads,
         a_l=masked_rescale(solved, a_l_star, scales.area).reshape(shape),
@@ -175,3 +179,31 @@ def solve(
     _, leaves, treedef, loads = _prepare(scene, loads, outputs)
     solution = programs.call(_solve, leaves, treedef, loads, _solution_tree(treedef), pad=scene.model.pad_loads)
     return thrown(solution) if throw else solution
+
+
+_UNLOADING = Outputs(stiffness=Unloading())
+_TANGENTIAL = Outputs(stiffness=TangentialStick())
+
+
+def dynamic_stiffness(scene: Scene, preload: LoadsLike, *, throw: bool = False) -> Solution:
+    """The normal stiffness of a small vibration about a preload reached by loading: every spot
+    unloads elastically from its state at the preload (docs/in-service.md). For an elastic model it
+    is the loading K; where spots flowed it is larger (the seed model's fully plastic spots, K = 0
+    on loading, each unload with `2E*r`).
+
+    **Arguments:** as `solve`, `preload` its loads. **Returns:** `solve(scene, preload,
+    outputs=Outputs(stiffness=Unloading()))`, a `Solution` whose `stiffness` is that tangent.
+    **Raises:** `ValueError` for a model without an unloading law (the capped BEM model).
+    """
+    return solve(scene, preload, outputs=_UNLOADING, throw=throw)
+
+
+def tangential_stiffness(scene: Scene, loads: LoadsLike, *, throw: bool = False) -> Solution:
+    """Mindlin's tangential stiffness in full stick at each load (reached by loading): each spot's
+    `8G*r`, `2(1 − ν)/(2 − ν)` times its unloading stiffness for two bodies of like material
+    (docs/in-service.md).
+
+    **Arguments:** as `solve`. **Returns:** `solve(scene, loads, outputs=Outputs(stiffness=TangentialStick()))`.
+    **Raises:** `ValueError` for a model without an unloading law (the capped BEM model).
+    """
+    return solve(scene, loads, outputs=_TANGENTIAL, throw=throw)

@@ -24,7 +24,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ..numerics import NewtonBisection
+from ..numerics import InputError, NewtonBisection
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
 from ._load_pieces import AbstractLoadPieces
@@ -97,6 +97,11 @@ class AbstractContactModel(eqx.Module):
         """`ln F*` where the slope of K(F) jumps (an empty array for a smooth model); integrators
         of K(F) step to them."""
 
+    @abc.abstractmethod
+    def unloads_as_it_loads(self) -> bool:
+        """Whether every state of the model unloads along its loading curve (an elastic model), so
+        that its unloading and tangential stiffnesses follow from its loading solve."""
+
     @typing.final
     def options(self) -> dict[str, str]:
         """The model's choices by name, as scene files and reports spell them: `model`, then every
@@ -129,9 +134,19 @@ class AbstractSweptModel(AbstractContactModel):
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
 
-def curve_solver(model: AbstractContactModel, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
+def curve_solver(
+    model: AbstractContactModel, s: DimensionlessScene, unloading: bool = False
+) -> Callable[[Float[Array, " loads"]], PointResult]:
     """`F*` (1-D) ↦ the `PointResult`s of all loads: a swept model's sweep, else `point_solver`
-    mapped over the loads (`jax.vmap`)."""
+    mapped over the loads (`jax.vmap`). With `unloading`, each result's stiffness is the initial
+    unloading tangent from the state its load reaches on loading."""
+    if unloading and isinstance(model, AbstractLargestSpotModel):
+        return jax.vmap(model.point_solver(s, unloading=True))
+    if unloading and not model.unloads_as_it_loads():
+        raise InputError(
+            f"model {model!r} has no unloading law: its unloading (dynamic) and tangential stiffnesses are "
+            "not available"
+        )
     if isinstance(model, AbstractSweptModel):
         return model.sweep_solver(s)
     return jax.vmap(model.point_solver(s))
@@ -169,6 +184,12 @@ class AbstractJoint(eqx.Module):
     def response(self, log_a_l, log_load) -> JointResponse:
         """Everything at the solved `a_l`; `log_load = ln F*` sets the nominal pressure."""
 
+    @abc.abstractmethod
+    def unloading_stiffness(self, log_a_l, log_load) -> tuple[Float[Array, " regimes"], Bool[Array, ""]]:
+        """Each regime's initial unloading stiffness from the solved `a_l` (every spot unloads
+        elastically: the loading law's stiffness for an elastic spot, Sneddon's `2E*r` for one that
+        flowed), and the breakdown flag."""
+
 
 def _piece_residual(log_a_l, args):
     pieces, piece, log_load = args
@@ -200,8 +221,13 @@ class AbstractLargestSpotModel(AbstractContactModel):
         return self.joint(s).load_pieces().knot_log_loads[1:-1]
 
     @typing.final
-    def point_solver(self, s):
-        """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (docs/model.md §4).
+    def unloads_as_it_loads(self) -> bool:
+        return False
+
+    @typing.final
+    def point_solver(self, s, unloading: bool = False):
+        """The a_l solve in `ln a_l*` on `[ln a_min*, 0]` (docs/model.md §4); with `unloading`, the
+        response's stiffness is the joint's initial unloading stiffness there (`unloading_stiffness`).
 
         `F_t` at the kinks (once per scene) tells which smooth piece of `F_t` holds each load
         (`load_pieces`); Newton's method then runs on that piece alone, from the piece's log-log
@@ -235,6 +261,10 @@ class AbstractLargestSpotModel(AbstractContactModel):
                 _piece_residual, guess, (pieces, piece, log_load), lower, upper, slope=_piece_residual_slope
             )
             response = joint.response(log_a_l, log_load)
+            if unloading:
+                stiffness, breakdown = joint.unloading_stiffness(log_a_l, log_load)
+                breakdown = breakdown | response.breakdown  # the state is the loading one
+                response = JointResponse(response.regime_load, stiffness, response.real_area, breakdown)
             unresolved = starts_at_zero & (log_a_l - joint.log_a_min < smallest_resolved)
             status = jnp.select(
                 [~joint_valid, ~valid, ~in_range, ~converged, unresolved, response.breakdown],

@@ -96,6 +96,9 @@ class GreenwoodWilliamson(AbstractContactModel):
     def __check_init__(self):
         check_instance("root_finder", self.root_finder, NewtonBisection)
 
+    def unloads_as_it_loads(self):
+        return True  # elastic: unloading retraces loading
+
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 

@@ -90,3 +90,13 @@ class JZZ2010Joint(AbstractJoint):
         stiffness = jnp.stack([elastic, jnp.zeros_like(elastic)])
         real_area = jnp.exp(self._log_plastic_prefactor(log_a_l) + (2.0 - self.D) / 2.0 * log_a_l)
         return JointResponse(self.regime_load(log_a_l), stiffness, real_area, jnp.array(False))
+
+    def unloading_stiffness(self, log_a_l, log_load):
+        """Elastic spots unload along Hertz's stiffness, as they load; the plastic ones (below `a_c`)
+        with Sneddon's `2E√(a/π)` of their contact area (docs/model.md §12): the same law over every spot."""
+        del log_load
+        n = size_distribution(self.D, log_a_l, self.log_density)
+        law = hertz_stiffness(self.D) * n
+        elastic = law.integral(*self._elastic_range(log_a_l))
+        plastic = law.integral(self.log_a_min, jnp.minimum(self.log_a_c, log_a_l))
+        return jnp.stack([elastic, plastic]), jnp.array(False)

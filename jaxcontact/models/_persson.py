@@ -50,6 +50,9 @@ class Persson(AbstractContactModel):
         check_range("gamma", self.gamma, 0.0, 1.0, low_open=False, high_open=False)
         check_range("nodes", self.nodes, 8, 4096, low_open=False, high_open=False)
 
+    def unloads_as_it_loads(self):
+        return True  # elastic: unloading retraces loading
+
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 

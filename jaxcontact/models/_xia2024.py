@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
@@ -39,9 +40,9 @@ from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from ._load_pieces import PowerLawLoadPieces
 
 REGIMES = ("e", "ep1", "ep2", "p")
-# Fully plastic asperities carry load but add no stiffness (Sec. 4.2). Plain Python values,
-# not jnp arrays: a module-level array would freeze the precision that was active at import.
-_HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
+# Fully plastic asperities carry load but add no stiffness on loading (Sec. 4.2): the first three
+# regimes have stiffness.
+_STIFF_REGIMES = 3
 
 
 class Xia2024(AbstractLargestSpotModel):
@@ -124,20 +125,33 @@ class Xia2024Joint(AbstractJoint):
         """Eqs. (36)–(38): `∫ k(a) n(a) da` over each regime, and the breakdown flag.
 
         `k = k₀/(1 ± r)` (`k₀ = f'/ξ'`, or Sneddon's `2E√(a/π)`: `spot_law`): the closed form of
-        `∫ k₀ n da` plus the interaction's correction (`AbstractInteraction.corrections`).
+        `∫ k₀ n da` plus the interaction's correction (`AbstractInteraction.corrections`). Fully
+        plastic spots add no stiffness on loading (Sec. 4.2).
         """
+        return self._summed(self.spot_law, _STIFF_REGIMES, log_a_l, log_load)
+
+    def unloading_stiffness(self, log_a_l, log_load):
+        """Each regime's initial unloading stiffness (docs/model.md §12): every spot unloads
+        elastically, with the elastic regime's spot law at its contact area at the top (Sneddon's
+        `2E√(a/π)` with `Sneddon()`, the paper's family factor times it with `FamilyDerivative()`),
+        so that an all-elastic joint unloads as it loads; divided by `1 ± r` as on loading."""
+        elastic = jax.tree.map(lambda x: jnp.broadcast_to(x[0], x.shape), self.spot_law)
+        return self._summed(elastic, len(REGIMES), log_a_l, log_load)
+
+    def _summed(self, law: PowerLaw, count: int, log_a_l, log_load):
+        """`∫ k₀ n /(1 ± r) da` per regime for the spot law `k₀ = law` over the first `count`
+        regimes (the others 0), and the breakdown flag."""
         lower, upper = self.intervals(log_a_l)
-        has_stiffness = jnp.asarray(_HAS_STIFFNESS, lower.dtype)
-        integrand = self.spot_law * self.distribution(log_a_l)
-        closed_form = integrand.integral(lower, upper) * has_stiffness
-        # Plastic spots have no stiffness: only the first three regimes have a correction.
-        rows = slice(0, 3)
+        integrand = law * self.distribution(log_a_l)
+        closed_form = integrand.integral(lower, upper)
+        rows = slice(0, count)
         density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
         corrections, breakdown = self.interaction.corrections(
             density, self.load_laws[rows], self.interference_law, log_load, lower[rows], upper[rows]
         )
-        # Stacked last, so that each regime stays its own elementwise chain (see `paper_correction`).
-        return jnp.stack([closed_form[i] + c for i, c in enumerate(corrections)] + [closed_form[3]]), breakdown
+        # Stacked, so that each regime stays its own elementwise chain (see `paper_correction`).
+        parts = [closed_form[i] + c for i, c in enumerate(corrections)]
+        return jnp.stack(parts + [jnp.zeros_like(closed_form[i]) for i in range(count, len(REGIMES))]), breakdown
 
     def real_area(self, log_a_l):
         """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""

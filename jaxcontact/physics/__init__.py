@@ -10,6 +10,7 @@ from ._distribution import (
     size_distribution,
     wang_komvopoulos_psi,
 )
+from ._in_service import AbstractStiffness, Loading, TangentialStick, Unloading, mindlin_ratio
 from ._interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction, interaction_ratio
 from ._spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon, hertz_stiffness
 
@@ -17,11 +18,14 @@ __all__ = [
     "AbstractDistribution",
     "AbstractInteraction",
     "AbstractSpotStiffness",
+    "AbstractStiffness",
     "FamilyDerivative",
     "hertz_stiffness",
     "interaction_ratio",
     "interference",
     "kogut_etsion_laws",
+    "Loading",
+    "mindlin_ratio",
     "MajumdarBhushan",
     "NoInteraction",
     "PaperInteraction",
@@ -31,6 +35,8 @@ __all__ = [
     "SeriesInteraction",
     "size_distribution",
     "Sneddon",
+    "TangentialStick",
+    "Unloading",
     "wang_komvopoulos_psi",
     "WangKomvopoulos",
 ]
