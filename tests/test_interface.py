@@ -19,7 +19,7 @@ from helpers import TABLE1, make_scene, refused_type, scipy_approach
 
 import jaxcontact as jc
 from jaxcontact import InputError
-from jaxcontact.applications import interface_csv, pressure_overclosure
+from jaxcontact.applications import interface_csv, pressure_overclosure, stick_friction
 from jaxcontact.cli import main
 from jaxcontact.numerics import x64
 
@@ -96,7 +96,9 @@ def test_a_table_with_nothing_above_the_reference_is_refused(scene):
 def test_the_csv_names_the_nominal_area_it_belongs_to(scene, law):
     text = interface_csv(scene, law)
     assert "# nominal area A_a = 0.0001 m^2" in text
-    assert text.splitlines()[5] == "pressure_Pa,closure_m,normal_stiffness_Pa_per_m,contact_fraction,status"
+    assert text.splitlines()[5].startswith(
+        "pressure_Pa,closure_m,normal_stiffness_Pa_per_m,dynamic_stiffness_Pa_per_m,"
+    )
 
 
 # Two 10 mm steel cubes (ν = 0: a uniaxial stress, so that every node can be held laterally), the lower
@@ -159,18 +161,23 @@ CDIS, CSTR
 E_BLOCK, P_MAX, HEIGHT = 210e9, 5e7, 0.01
 
 
-@pytest.fixture(scope="module")
-def calculix(scene, law, tmp_path_factory):
-    """CalculiX's contact pressure, contact closure and top displacement at p = ¼, ½, ¾ and 1 of P_MAX."""
+def _run_calculix(work, text):
     if shutil.which("ccx") is None:
         pytest.skip("CalculiX is not installed (Debian: apt-get install calculix-ccx; .ci/run installs it)")
-    work = tmp_path_factory.mktemp("calculix")
-    table = pressure_overclosure(scene, law)
-    (work / "stack.inp").write_text(BLOCKS.format(E_block=E_BLOCK, table=table, pressure=P_MAX))
+    (work / "stack.inp").write_text(text)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     run = subprocess.run(["ccx", "-i", "stack"], cwd=work, capture_output=True, text=True, env=env, timeout=120)
     assert run.returncode == 0 and "ERROR" not in run.stdout, run.stdout[-2000:]
-    text = (work / "stack.dat").read_text()
+    return (work / "stack.dat").read_text()
+
+
+@pytest.fixture(scope="module")
+def calculix(scene, law, tmp_path_factory):
+    """CalculiX's contact pressure, contact closure and top displacement at p = ¼, ½, ¾ and 1 of P_MAX."""
+    table = pressure_overclosure(scene, law)
+    text = _run_calculix(
+        tmp_path_factory.mktemp("calculix"), BLOCKS.format(E_block=E_BLOCK, table=table, pressure=P_MAX)
+    )
 
     def blocks(title):
         found = re.findall(title + r".*?time\s+(\S+)\s*\n\s*\n((?:\s*\d+(?:\s+\S+){3}\s*\n)+)", text)
@@ -180,6 +187,49 @@ def calculix(scene, law, tmp_path_factory):
         }
 
     return blocks(r"contact stress"), blocks(r"relative contact displacement"), blocks(r"displacements \(vx,vy,vz\)")
+
+
+# The same stack pressed to P_SHEAR, then sheared by a force on its top (upper block free to slide in
+# x, held in y), through the table and a *FRICTION block whose stick slope is the library's k_t.
+SHEARED = (
+    BLOCKS.replace(
+        "*BOUNDARY\nALL, 1, 2\n",
+        "*NSET, NSET=LOWERALL\n1, 2, 3, 4, 5, 6, 7, 8\n*NSET, NSET=UPPERALL\n9, 10, 11, 12, 13, 14, 15, 16\n"
+        "*BOUNDARY\nLOWERALL, 1, 2\nUPPERALL, 2, 2\n",
+    )
+    .replace("*SURFACE INTERACTION, NAME=ROUGH\n{table}", "*SURFACE INTERACTION, NAME=ROUGH\n{table}{friction}")
+    .replace(
+        "*END STEP\n",
+        "*END STEP\n*STEP, INC=1000\n*STATIC\n0.1, 1.0\n*CLOAD\nTOP, 1, {force}\n"
+        "*CONTACT PRINT\nCDIS, CSTR\n*END STEP\n",
+        1,
+    )
+)
+P_SHEAR, MU = 1e6, 0.5
+
+
+@pytest.fixture(scope="module")
+def calculix_shear(scene, law, tmp_path_factory):
+    """CalculiX's tangential contact stress and slip of the sheared stack (the last step's)."""
+    tau = 0.1 * MU * P_SHEAR  # well inside stick
+    text = SHEARED.format(
+        E_block=E_BLOCK,
+        table=pressure_overclosure(scene, law),
+        friction=stick_friction(scene, MU, P_SHEAR),
+        pressure=P_SHEAR,
+        force=tau * HEIGHT**2 / 4,  # per top node
+    )
+    text = _run_calculix(tmp_path_factory.mktemp("shear"), text)
+    stress = re.findall(r"contact stress.*?\n\n((?:\s*\d+(?:\s+\S+){3}\s*\n)+)", text)[-1]
+    slip = re.findall(r"relative contact displacement.*?\n\n((?:\s*\d+(?:\s+\S+){3}\s*\n)+)", text)[-1]
+    values = lambda block: np.array([[float(v) for v in line.split()[1:]] for line in block.strip().splitlines()])  # noqa: E731
+    return values(stress), values(slip)
+
+
+def test_calculix_sticks_with_the_librarys_tangential_stiffness(scene, calculix_shear):
+    stress, slip = calculix_shear
+    k_t = float(jc.tangential_stiffness(scene, P_SHEAR * TABLE1["area"]).stiffness) / TABLE1["area"]
+    np.testing.assert_allclose(stress[:, 1] / slip[:, 1], k_t, rtol=1e-2)
 
 
 @pytest.mark.parametrize("fraction", [0.25, 0.5, 1.0])
@@ -208,7 +258,8 @@ def test_the_stacks_compliance_is_the_blocks_plus_the_interfaces(calculix, fract
 def command(tmp_path_factory):
     """`jaxcontact interface` on the embedded scene at 9 pressures: its JSON rows and its folder."""
     out = tmp_path_factory.mktemp("interface")
-    argv = ["interface", "--pressures", "1e4", "1e8", "--points", "9", "--out", str(out), "--format", "json"]
+    argv = ["interface", "--pressures", "1e4", "1e8", "--points", "9", "--friction", "0.3", "--out", str(out)]
+    argv += ["--format", "json"]
     with contextlib.redirect_stdout(io.StringIO()) as printed:
         assert main(argv) == 0
     return json.loads(printed.getvalue())["rows"], out
@@ -221,8 +272,16 @@ def test_the_command_gives_the_librarys_law(command):
 
 
 def test_the_commands_fe_table_has_a_row_per_pressure_above_the_reference(command):
-    lines = (command[1] / "interface.inp").read_text().splitlines()
-    assert len(lines) == 6 + 1 + 1 + 8  # provenance, keyword, the row "0., 0.", the 8 pressures above p0
+    lines = (command[1] / "interface.inp").read_text().split("*FRICTION")[0].splitlines()
+    # provenance, keyword, the row "0., 0.", the 8 pressures above p0, the friction block's comment
+    assert len(lines) == 6 + 1 + 1 + 8 + 1
+
+
+def test_the_commands_stick_slope_is_k_t_at_the_highest_pressure_that_has_one(command):
+    law = jc.interface_law(jc.table1_scene(), np.geomspace(1e4, 1e8, 9))
+    highest = np.flatnonzero(np.asarray(law.unloading_status) == 0)[-1]
+    mu, slope = (command[1] / "interface.inp").read_text().split("*FRICTION\n")[1].split(",")
+    assert (float(mu), float(slope)) == pytest.approx((0.3, float(law.tangential_stiffness[highest])), rel=1e-9)
 
 
 def test_the_command_draws_the_law(command):
@@ -239,6 +298,36 @@ def test_float32_gives_the_float64_closure_within_1e4(law):
         law32 = jc.interface_law(make_scene(**TABLE1), PRESSURES[::8].astype(np.float32))
         assert law32.closure.dtype == np.float32
         np.testing.assert_allclose(np.asarray(law32.closure)[1:], np.asarray(law.closure)[::8][1:], rtol=1e-4)
+
+
+@pytest.mark.parametrize(
+    "column, of", [("dynamic_stiffness", jc.dynamic_stiffness), ("tangential_stiffness", jc.tangential_stiffness)]
+)
+def test_the_in_service_columns_are_their_solves_per_unit_area(scene, law, column, of):
+    ok = np.asarray(law.unloading_status) == 0
+    expected = np.asarray(of(scene, PRESSURES[ok] * TABLE1["area"]).stiffness) / TABLE1["area"]
+    np.testing.assert_allclose(np.asarray(getattr(law, column))[ok], expected, rtol=1e-12)
+
+
+def test_the_paper_readings_unloading_breakdown_is_flagged_at_the_highest_pressure(law):
+    assert int(law.unloading_status[-1]) == jc.Status.INTERACTION_BREAKDOWN
+
+
+def test_a_flagged_unloading_leaves_its_columns_nan(law):
+    flagged = np.asarray(law.unloading_status) != 0
+    assert np.all(np.isnan(np.asarray(law.tangential_stiffness)[flagged]))
+
+
+@pytest.mark.parametrize(
+    "mu, pressure, message",
+    [
+        (0.0, 1e6, r"mu = 0.0 must be a friction coefficient in \(0, inf\)"),
+        (0.3, 1e8, r"pressure = 1e\+08 Pa: no tangential"),
+    ],
+)
+def test_a_friction_block_refuses_what_it_cannot_write(scene, mu, pressure, message):
+    with pytest.raises(ValueError, match=message):
+        stick_friction(scene, mu, pressure)
 
 
 @pytest.mark.parametrize(

@@ -4,7 +4,7 @@ long load sweeps."""
 
 from ._approach_sum import Approach, approach_quadrature, approach_star
 from ._chunks import CHUNK, map_in_chunks, solve_sweep
-from ._fe_tables import interface_csv, pressure_overclosure
+from ._fe_tables import interface_csv, pressure_overclosure, stick_friction
 from ._interface import InterfaceLaw, interface_law
 from ._sharded_sweep import SweepResult, sweep
 
@@ -28,6 +28,7 @@ __all__ = [
     "InterfaceLaw",
     "interface_law",
     "pressure_overclosure",
+    "stick_friction",
     "interface_csv",
     "SweepResult",
     "CHUNK",

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core import Scene
-from ..numerics import InputError
+from ..core import Scene, tangential_stiffness
+from ..numerics import InputError, check_positive
+from ..quantities import status_message
 from ._interface import InterfaceLaw
 
 
@@ -43,13 +44,53 @@ def pressure_overclosure(scene: Scene, law: InterfaceLaw) -> str:
     return "\n".join(lines) + "\n"
 
 
+def stick_friction(scene: Scene, mu: float, pressure: float) -> str:
+    """A `*FRICTION` block (CalculiX: `μ, λ`, λ the stick slope in Pa/m) whose λ is Mindlin's full-stick
+    tangential stiffness per unit area at one nominal `pressure` (the preload's; it grows with the
+    pressure), to follow the pressure–overclosure block under the same `*SURFACE INTERACTION`.
+
+    **Arguments:** the `scene`, the friction coefficient `mu` (> 0) and the nominal `pressure` (Pa).
+    **Returns:** the block's text. **Raises:** `ValueError` for a bad `mu` or `pressure`, or where the
+    model gives no tangential stiffness at that pressure (its status says why).
+    """
+    if isinstance(mu, bool) or not (isinstance(mu, (int, float)) and 0 < mu < float("inf")):
+        raise InputError(f"mu = {mu!r} must be a friction coefficient in (0, inf)")
+    check_positive("pressure", pressure, "Pa", "pressure")
+    solution = tangential_stiffness(scene, pressure * scene.area)
+    if int(solution.status) != 0:
+        raise InputError(
+            f"pressure = {pressure:g} Pa: no tangential stiffness there ({status_message(int(solution.status))})"
+        )
+    k_t = float(solution.stiffness / scene.area)
+    return (
+        f"** Mindlin's full-stick slope (Pa/m) at the nominal pressure {pressure:.6g} Pa (docs/in-service.md)\n"
+        f"*FRICTION\n{mu:.9g}, {k_t:.9e}\n"
+    )
+
+
+# Each `InterfaceLaw.columns` field's CSV header.
+CSV_HEADERS = {
+    "pressure": "pressure_Pa",
+    "closure": "closure_m",
+    "normal_stiffness": "normal_stiffness_Pa_per_m",
+    "dynamic_stiffness": "dynamic_stiffness_Pa_per_m",
+    "tangential_stiffness": "tangential_stiffness_Pa_per_m",
+    "contact_fraction": "contact_fraction",
+    "status": "status",
+    "unloading_status": "unloading_status",
+}
+
+
 def interface_csv(scene: Scene, law: InterfaceLaw) -> str:
-    """The law at every pressure as CSV (`#` provenance lines, then pressure_Pa, closure_m,
-    normal_stiffness_Pa_per_m, contact_fraction, status)."""
+    """The law at every pressure as CSV: `#` provenance lines, then a column per `InterfaceLaw.columns`
+    field (pressure_Pa, closure_m, normal_stiffness_Pa_per_m, dynamic_stiffness_Pa_per_m,
+    tangential_stiffness_Pa_per_m, contact_fraction, status, unloading_status)."""
     lines = [f"# {line}" for line in provenance(scene, law)]
-    lines.append("pressure_Pa,closure_m,normal_stiffness_Pa_per_m,contact_fraction,status")
-    for p, d, k, f, s in zip(*(np.asarray(getattr(law, name)) for name in InterfaceLaw.columns)):
-        lines.append(f"{p:.9e},{d:.9e},{k:.9e},{f:.9e},{int(s)}")
+    lines.append(",".join(CSV_HEADERS[name] for name in InterfaceLaw.columns))
+    for row in zip(*(np.asarray(getattr(law, name)) for name in InterfaceLaw.columns)):
+        lines.append(
+            ",".join(str(int(x)) if "status" in name else f"{x:.9e}" for name, x in zip(InterfaceLaw.columns, row))
+        )
     return "\n".join(lines) + "\n"
 
 

@@ -13,8 +13,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
-from ..core import Scene, solve
+from ..core import Outputs, Scene, solve
+from ..models import has_unloading_law
 from ..numerics import InputError, check_positive
+from ..physics import Unloading, mindlin_ratio
 from ..quantities import Status
 from ._approach_sum import approach_quadrature
 
@@ -29,8 +31,15 @@ class InterfaceLaw(eqx.Module):
     - `closure`: δ(p) − δ(p0), the approach of the two surfaces' mean planes (m) beyond its value at
       p0 (docs/model.md §6); negative below p0.
     - `normal_stiffness`: k_n(p) = K(p A_a)/A_a, the loading tangent per unit area, Pa/m (N/m per m²).
+    - `dynamic_stiffness`: k_n,dyn(p), the initial unloading tangent per unit area about p reached by
+      loading (`jc.dynamic_stiffness`; docs/in-service.md), Pa/m.
+    - `tangential_stiffness`: k_t(p), Mindlin's full-stick tangential stiffness per unit area
+      (`jc.tangential_stiffness`), Pa/m: the stick slope of an FE code's friction law.
     - `contact_fraction`: A_r/A_a.
     - `status`: per point, as `Solution.status` (0 = ok); where it is not 0 the other fields are NaN.
+    - `unloading_status`: per point, the status of the unloading state behind `dynamic_stiffness` and
+      `tangential_stiffness` (NaN where it is not 0); `INVALID_PARAMETERS` throughout for a model
+      without an unloading law (the capped BEM model).
     - `nominal_area`: the scene's A_a (m²): a fractal model's law per unit area depends on it (its
       largest spot grows with the area), so a law belongs to the nominal area it was computed for.
     """
@@ -39,11 +48,23 @@ class InterfaceLaw(eqx.Module):
     reference_pressure: Float[Array, ""]
     closure: Float[Array, " pressures"]
     normal_stiffness: Float[Array, " pressures"]
+    dynamic_stiffness: Float[Array, " pressures"]
+    tangential_stiffness: Float[Array, " pressures"]
     contact_fraction: Float[Array, " pressures"]
     status: Int[Array, " pressures"]
+    unloading_status: Int[Array, " pressures"]
     nominal_area: Float[Array, ""]
     # The per-pressure fields, in the order the CSV and the command's table give them.
-    columns: ClassVar[tuple[str, ...]] = ("pressure", "closure", "normal_stiffness", "contact_fraction", "status")
+    columns: ClassVar[tuple[str, ...]] = (
+        "pressure",
+        "closure",
+        "normal_stiffness",
+        "dynamic_stiffness",
+        "tangential_stiffness",
+        "contact_fraction",
+        "status",
+        "unloading_status",
+    )
 
 
 def interface_law(
@@ -89,15 +110,35 @@ def interface_law(
     closure = approach_quadrature(scene, loads, reference_pressure * area, nodes=nodes)
     status = jnp.where(solution.status != Status.OK, solution.status, closure.status)
     ok = status == Status.OK
+    dynamic, unloading_status = _unloading(scene, loads, status, solution.stiffness)
+    unloaded = unloading_status == Status.OK
     return InterfaceLaw(
         pressure=pressures.astype(solution.stiffness.dtype),
         reference_pressure=jnp.asarray(reference_pressure, solution.stiffness.dtype),
         closure=jnp.where(ok, closure.approach, jnp.nan),
         normal_stiffness=jnp.where(ok, solution.stiffness / area, jnp.nan),
+        dynamic_stiffness=jnp.where(unloaded, dynamic / area, jnp.nan),
+        tangential_stiffness=jnp.where(unloaded, mindlin_ratio(scene.material.nu) * dynamic / area, jnp.nan),
         contact_fraction=jnp.where(ok, solution.real_area / area, jnp.nan),
         status=status,
+        unloading_status=unloading_status,
         nominal_area=jnp.asarray(area, solution.stiffness.dtype),
     )
+
+
+_UNLOADING = Outputs(regime_shares=False, stiffness=Unloading())
+
+
+def _unloading(scene: Scene, loads, status, loading):
+    """The unloading stiffness (N/m) at `loads` and its status, which is the loading `status` where that
+    is not ok; the `loading` stiffness itself for a model that unloads as it loads (no second solve);
+    `INVALID_PARAMETERS` for a model without an unloading law."""
+    if not has_unloading_law(scene.model):
+        return jnp.full(loads.shape, jnp.nan), jnp.full(loads.shape, Status.INVALID_PARAMETERS, jnp.int32)
+    if scene.model.unloads_as_it_loads():
+        return loading, status
+    unloading = solve(scene, loads, outputs=_UNLOADING)
+    return unloading.stiffness, jnp.where(status != Status.OK, status, unloading.status).astype(jnp.int32)
 
 
 # The widest step in ln p (between consecutive pressures and p0) up to which 2 and 4 Gauss–Legendre

@@ -14,7 +14,7 @@ FILES = ("interface.csv", "interface.inp")
 def cmd_interface(args) -> int:
     import numpy as np
 
-    from ..applications import interface_csv, interface_law, pressure_overclosure
+    from ..applications import interface_csv, interface_law, pressure_overclosure, stick_friction
     from ..quantities import status_message
     from ._report import format_table
     from ._scenefile import load_scene
@@ -34,34 +34,59 @@ def cmd_interface(args) -> int:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / FILES[0]).write_text(interface_csv(scene, law))
-    (out / FILES[1]).write_text(pressure_overclosure(scene, law))
+    table, friction_note = pressure_overclosure(scene, law), ", for CalculiX and Abaqus"
+    if args.friction is not None:
+        if not 0 < args.friction < float("inf"):
+            raise CommandError(f"--friction {args.friction:g} must be a friction coefficient > 0")
+        if args.stick_pressure is not None and not 0 < args.stick_pressure < float("inf"):
+            raise CommandError(f"--stick-pressure {args.stick_pressure:g} must be a pressure (Pa) > 0")
+        stick = args.stick_pressure or _highest_with_stick(law)
+        table += stick_friction(scene, args.friction, stick)
+        friction_note = (
+            f" and *FRICTION (mu = {args.friction:g}, Mindlin's stick slope at {stick:g} Pa), for CalculiX; Abaqus "
+            "reads the *FRICTION line otherwise"
+        )
+    (out / FILES[1]).write_text(table)
     from ._plots import plot_interface
 
-    columns = [np.asarray(getattr(law, name)) for name in law.columns]
-    figure = plot_interface(columns[0], columns[1], columns[2], reference, out / "interface.png")
+    columns = {name: np.asarray(getattr(law, name)) for name in law.columns}
+    figure = plot_interface(
+        columns["pressure"], columns["closure"], columns["normal_stiffness"], reference, out / "interface.png"
+    )
     files = [str(out / name) for name in FILES] + [figure]
     rows = [
         {
             "p_Pa": float(p),
             "closure_m": float(d),
             "k_n_Pa_per_m": float(k),
+            "k_n_dyn_Pa_per_m": float(k_dyn),
+            "k_t_Pa_per_m": float(k_t),
             "contact_fraction": float(f),
             "status": status_message(int(s)) if s else "ok",
         }
-        for p, d, k, f, s in zip(*columns)
+        for p, d, k, k_dyn, k_t, f, s in zip(*(columns[name] for name in law.columns[:-1]))
     ]
     text = (
         f"{spec.title}: interface law per unit area (nominal area {float(scene.area):g} m², closure from "
         f"p0 = {reference:g} Pa)\n\n"
-        + format_table(rows, ("p_Pa", "closure_m", "k_n_Pa_per_m", "contact_fraction", "status"))
+        + format_table(rows, ("p_Pa", "closure_m", "k_n_Pa_per_m", "k_n_dyn_Pa_per_m", "k_t_Pa_per_m", "status"))
         + "\n\n"
         + f"wrote {files[0]} (the law with its provenance)\n"
-        + f"wrote {files[1]} (*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR, for CalculiX and Abaqus)\n"
+        + f"wrote {files[1]} (*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR{friction_note})\n"
         + f"wrote {files[2]}"
     )
     payload = {"title": spec.title, "nominal_area_m2": float(scene.area), "reference_pressure_Pa": reference}
     print_result(payload | {"rows": rows, "files": files}, args.format, text)
     return 0
+
+
+def _highest_with_stick(law) -> float:
+    import numpy as np
+
+    ok = np.asarray(law.unloading_status) == 0
+    if not ok.any():
+        raise CommandError("no pressure of the law has a tangential stiffness: --friction needs one (see the table)")
+    return float(np.max(np.asarray(law.pressure)[ok]))
 
 
 def add_interface_options(p) -> None:
@@ -74,3 +99,15 @@ def add_interface_options(p) -> None:
     )
     p.add_argument("--points", type=int, default=40, help="number of pressures (default: 40)")
     p.add_argument("--reference", type=float, help="pressure (Pa) at which the closure is zero (default: LOW)")
+    p.add_argument(
+        "--friction",
+        type=float,
+        metavar="MU",
+        help="add a *FRICTION block with this friction coefficient and Mindlin's full-stick slope k_t (Pa/m)",
+    )
+    p.add_argument(
+        "--stick-pressure",
+        type=float,
+        metavar="P",
+        help="nominal pressure (Pa) of the stick slope, the preload's (default: the highest with a k_t)",
+    )

@@ -11,6 +11,7 @@ from ._base import (
     JointResponse,
     PointResult,
     curve_solver,
+    has_unloading_law,
 )
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
@@ -26,6 +27,7 @@ __all__ = [
     "AbstractSweptModel",
     "CLOSED_INTERFACE",
     "curve_solver",
+    "has_unloading_law",
     "AbstractLoadPieces",
     "build_model",
     "DISTRIBUTIONS",

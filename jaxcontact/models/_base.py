@@ -134,6 +134,12 @@ class AbstractSweptModel(AbstractContactModel):
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
 
+def has_unloading_law(model: AbstractContactModel) -> bool:
+    """Whether `model` gives an unloading (dynamic) and a tangential stiffness: a largest-spot model (its
+    joint's `unloading_stiffness`) or one that unloads as it loads."""
+    return isinstance(model, AbstractLargestSpotModel) or model.unloads_as_it_loads()
+
+
 def curve_solver(
     model: AbstractContactModel, s: DimensionlessScene, unloading: bool = False
 ) -> Callable[[Float[Array, " loads"]], PointResult]:
@@ -142,7 +148,7 @@ def curve_solver(
     unloading tangent from the state its load reaches on loading."""
     if unloading and isinstance(model, AbstractLargestSpotModel):
         return jax.vmap(model.point_solver(s, unloading=True))
-    if unloading and not model.unloads_as_it_loads():
+    if unloading and not has_unloading_law(model):
         raise InputError(
             f"model {model!r} has no unloading law: its unloading (dynamic) and tangential stiffnesses are "
             "not available"
