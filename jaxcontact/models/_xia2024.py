@@ -40,9 +40,9 @@ from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from ._load_pieces import PowerLawLoadPieces
 
 REGIMES = ("e", "ep1", "ep2", "p")
-# Fully plastic asperities carry load but add no stiffness on loading (Sec. 4.2): the first three
-# regimes have stiffness.
-_STIFF_REGIMES = 3
+# Fully plastic asperities carry load but add no stiffness on loading (Sec. 4.2). Plain Python values,
+# not jnp arrays: a module-level array would freeze the precision that was active at import.
+_HAS_STIFFNESS = (1.0, 1.0, 1.0, 0.0)
 
 
 class Xia2024(AbstractLargestSpotModel):
@@ -128,7 +128,7 @@ class Xia2024Joint(AbstractJoint):
         `∫ k₀ n da` plus the interaction's correction (`AbstractInteraction.corrections`). Fully
         plastic spots add no stiffness on loading (Sec. 4.2).
         """
-        return self._summed(self.spot_law, _STIFF_REGIMES, log_a_l, log_load)
+        return self._summed(self.spot_law, _HAS_STIFFNESS, log_a_l, log_load)
 
     def unloading_stiffness(self, log_a_l, log_load):
         """Each regime's initial unloading stiffness (docs/model.md §12): every spot unloads
@@ -136,22 +136,22 @@ class Xia2024Joint(AbstractJoint):
         `2E√(a/π)` with `Sneddon()`, the paper's family factor times it with `FamilyDerivative()`),
         so that an all-elastic joint unloads as it loads; divided by `1 ± r` as on loading."""
         elastic = jax.tree.map(lambda x: jnp.broadcast_to(x[0], x.shape), self.spot_law)
-        return self._summed(elastic, len(REGIMES), log_a_l, log_load)
+        return self._summed(elastic, (1.0,) * len(REGIMES), log_a_l, log_load)
 
-    def _summed(self, law: PowerLaw, count: int, log_a_l, log_load):
-        """`∫ k₀ n /(1 ± r) da` per regime for the spot law `k₀ = law` over the first `count`
-        regimes (the others 0), and the breakdown flag."""
+    def _summed(self, law: PowerLaw, has_stiffness: tuple[float, ...], log_a_l, log_load):
+        """`∫ k₀ n /(1 ± r) da` per regime for the spot law `k₀ = law`, times `has_stiffness` (the
+        regimes with stiffness first), and the breakdown flag."""
         lower, upper = self.intervals(log_a_l)
         integrand = law * self.distribution(log_a_l)
-        closed_form = integrand.integral(lower, upper)
-        rows = slice(0, count)
+        closed_form = integrand.integral(lower, upper) * jnp.asarray(has_stiffness, lower.dtype)
+        rows = slice(0, sum(1 for x in has_stiffness if x))
         density = PowerLaw(integrand.log_coeff[rows], integrand.exponent[rows] + 1.0)  # k₀ n a, in t = ln a
         corrections, breakdown = self.interaction.corrections(
             density, self.load_laws[rows], self.interference_law, log_load, lower[rows], upper[rows]
         )
         # Stacked, so that each regime stays its own elementwise chain (see `paper_correction`).
         parts = [closed_form[i] + c for i, c in enumerate(corrections)]
-        return jnp.stack(parts + [jnp.zeros_like(closed_form[i]) for i in range(count, len(REGIMES))]), breakdown
+        return jnp.stack(parts + [closed_form[i] for i in range(len(parts), len(REGIMES))]), breakdown
 
     def real_area(self, log_a_l):
         """`A_r* = ∫ a n(a) da` over `(a_min, a_l]`, all regimes."""
