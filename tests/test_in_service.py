@@ -2,6 +2,7 @@
 state reached by loading, and Mindlin's tangential stiffness in full stick, against closed forms,
 scipy quadrature over the spot-size distribution and central differences."""
 
+import json
 import math
 
 import equinox as eqx
@@ -132,3 +133,46 @@ def test_the_capped_bem_model_has_no_unloading_law():
 def test_a_stiffness_given_by_name_is_refused_with_its_object():
     with pytest.raises(ValueError, match=r"stiffness = 'unloading': give the object, jaxcontact.Unloading\(\)"):
         jc.Outputs(stiffness="unloading")
+
+
+PLASTIC_SCENE_FILE = """title = "fully plastic"
+[surface]
+D = 1.5
+G = 1e-12
+l_min = 1e-6
+[material]
+E = {E}
+nu = {nu}
+H = 3e9
+[joint]
+area = 1e-4
+[effects]
+interaction = "none"
+spot_stiffness = "sneddon"
+stiffness = "{stiffness}"
+[loads]
+values = {loads}
+"""
+
+
+def _scene_file(tmp_path, stiffness):
+    path = tmp_path / "plastic.toml"
+    loads = "[" + ", ".join(f"{x:.17g}" for x in PLASTIC_LOADS) + "]"
+    path.write_text(PLASTIC_SCENE_FILE.format(E=PLASTIC["E"], nu=PLASTIC["nu"], stiffness=stiffness, loads=loads))
+    return path
+
+
+def test_run_solves_the_stiffness_its_option_names(plastic_scene, tmp_path, capsys):
+    from jaxcontact.cli import main
+
+    argv = ["run", str(_scene_file(tmp_path, "loading")), "--stiffness", "unloading", "--out", str(tmp_path)]
+    assert main([*argv, "--format", "json"]) == 0
+    K = [row["K_N_per_m"] for row in json.loads(capsys.readouterr().out)["rows"]]
+    np.testing.assert_allclose(K, jc.dynamic_stiffness(plastic_scene, PLASTIC_LOADS).stiffness, rtol=1e-12)
+
+
+def test_a_stiffness_the_scene_file_does_not_know_is_refused_by_name(tmp_path, capsys):
+    from jaxcontact.cli import main
+
+    assert main(["run", str(_scene_file(tmp_path, "dynamic")), "--out", str(tmp_path)]) == 2
+    assert "stiffness = 'dynamic' must be one of 'loading', 'unloading', 'tangential'" in capsys.readouterr().err

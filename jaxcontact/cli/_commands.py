@@ -4,6 +4,7 @@ prints a table or JSON. User mistakes raise `CommandError` (or `ValueError`), re
 
 from __future__ import annotations
 
+import dataclasses
 import pathlib
 
 from ._output import CommandError, implausible_values, print_result
@@ -26,6 +27,15 @@ def cmd_run(args) -> int:
         from ._topography_run import overridden
 
         spec = overridden(spec, args)
+    if getattr(args, "stiffness", None):
+        from ._scenefile import stiffness_of
+
+        outputs = spec.outputs
+        spec = dataclasses.replace(
+            spec, outputs=type(outputs)(regime_shares=outputs.regime_shares, stiffness=stiffness_of(args.stiffness))
+        )
+    if spec.outputs.stiffness.name != "loading":
+        notes.insert(0, f"K is the {STIFFNESS_WORDS[spec.outputs.stiffness.name]} (docs/in-service.md)")
     if spec.scene.model.name == "bem":
         # A grid that cannot resolve l_min flags every load: refused before the solves, as `compare` does.
         from ..bem import check_grid
@@ -86,6 +96,13 @@ def cmd_run(args) -> int:
     payload["rows"] = rows
     print_result({**payload, "files": files}, args.format, summary)
     return 0
+
+
+# What `run` says K is when it is not the loading tangent.
+STIFFNESS_WORDS = {
+    "unloading": "unloading (dynamic) stiffness about each load: every spot unloads elastically from its state there",
+    "tangential": "tangential stiffness in full stick (Mindlin) at each load",
+}
 
 
 def _columns(rows) -> tuple[str, ...]:

@@ -124,7 +124,7 @@ def scene_record(spec) -> dict:
     scene = spec.scene
     parameters = {name: float(p.get(scene)) for name, p in PARAMETERS.items()}
     finder = getattr(scene.model, "root_finder", None)
-    settings = dict(regime_shares=spec.outputs.regime_shares)
+    settings = dict(regime_shares=spec.outputs.regime_shares, stiffness=spec.outputs.stiffness.name)
     if finder is not None:
         settings.update(max_steps=finder.max_steps, solver_tolerance=finder.tolerance)
     return {

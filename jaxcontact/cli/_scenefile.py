@@ -9,7 +9,8 @@ title = "..."
             interaction ("none" | "paper" | "series"), distribution ("mb" | "wk"),
             spot_stiffness ("paper" | "sneddon"), quadrature ("power-series" | "gauss-legendre" |
             "adaptive"), quadrature_nodes, quadrature_tolerance, max_steps, solver_tolerance
-[effects]   interaction, distribution, spot_stiffness (here or in [model]), regime_shares (bool)
+[effects]   interaction, distribution, spot_stiffness (here or in [model]), regime_shares (bool),
+            stiffness ("loading" | "unloading" | "tangential": which K `solve` returns)
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
 [approach]  reference_load (N): ask for the load–approach curve relative to this preload
 [dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
@@ -56,7 +57,13 @@ _SCHEMA = {
         "max_steps": int,
         "solver_tolerance": float,
     },
-    "effects": {"interaction": str, "distribution": str, "spot_stiffness": str, "regime_shares": bool},
+    "effects": {
+        "interaction": str,
+        "distribution": str,
+        "spot_stiffness": str,
+        "regime_shares": bool,
+        "stiffness": str,
+    },
     "loads": {"unit": str, "values": list, "range": list, "count": int},
     "approach": {"reference_load": float},
     "dynamics": {
@@ -173,6 +180,21 @@ def _loads(spec: dict, load_unit: float) -> np.ndarray:
     return loads * load_unit if unit == "F_star" else loads
 
 
+# The [effects] keys that are options of `solve` (`Outputs`), not of the model.
+OUTPUT_OPTIONS = ("regime_shares", "stiffness")
+
+
+def stiffness_of(name: str | None):
+    """The `AbstractStiffness` a scene file or the command line names ("loading" by default)."""
+    from ..core._settings import STIFFNESSES
+
+    if name is None:
+        return STIFFNESSES["loading"]()
+    if name not in STIFFNESSES:
+        raise InputError(f"stiffness = {name!r} must be one of {', '.join(map(repr, STIFFNESSES))}")
+    return STIFFNESSES[name]()
+
+
 def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     """Build a `SceneFile` from the parsed TOML dictionary."""
     _check_types(data)
@@ -181,13 +203,15 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
     name = model.pop("name", "xia2024")
     for key in set(model) & set(effects):
         raise SceneFileError(f"{key} is given in both [model] and [effects]: give it once")
-    options = {**model, **{k: v for k, v in effects.items() if k != "regime_shares"}}
+    options = {**model, **{k: v for k, v in effects.items() if k not in OUTPUT_OPTIONS}}
     try:
         with file_spelling():
             surface = Surface(**data["surface"])
             material = Material(**data["material"])
             scene = Scene(surface, material, data["joint"]["area"], model=name, **options)
-            outputs = Outputs(regime_shares=effects.get("regime_shares", True))
+            outputs = Outputs(
+                regime_shares=effects.get("regime_shares", True), stiffness=stiffness_of(effects.get("stiffness"))
+            )
     except SceneFileError:
         raise
     except InputError as exc:

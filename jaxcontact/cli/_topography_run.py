@@ -27,6 +27,13 @@ def add_run_topography_options(p) -> None:
     p.add_argument("--poisson", type=float, help="Poisson's ratio (default: the scene's)")
     p.add_argument("--hardness", type=float, help="hardness H in Pa (default: the scene's)")
     p.add_argument("--area", type=float, help="nominal contact area in m² (default: the scene's)")
+    p.add_argument(
+        "--stiffness",
+        choices=("loading", "unloading", "tangential"),
+        help="which K: the loading tangent (the paper's), the unloading (dynamic) one about each load, or "
+        "Mindlin's tangential one in full stick (default: the scene's [effects] stiffness, else loading; "
+        "docs/in-service.md)",
+    )
 
 
 def _scene(scene, model: str, surface, args):
