@@ -100,6 +100,7 @@ LONGEST_FIRST = (
     "test_bem.py",
     "test_api.py",
     "test_in_service.py",
+    "test_measured_asperities.py",
     "test_inference.py",
     "test_comparator_fuzz.py",
     "test_pole_integral.py",

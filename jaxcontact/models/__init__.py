@@ -16,6 +16,7 @@ from ._base import (
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
 from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
+from ._measured_asperities import MeasuredAsperities
 from ._persson import Persson
 from ._registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, SPOT_STIFFNESSES, build_model, register_model
 from ._xia2024 import Xia2024
@@ -36,6 +37,7 @@ __all__ = [
     "INTERACTIONS",
     "JointResponse",
     "JZZ2010",
+    "MeasuredAsperities",
     "MODELS",
     "Persson",
     "PointResult",

@@ -48,8 +48,9 @@ class DimensionlessScene(eqx.Module):
     """Scale-free inputs of one scene, common to every model.
 
     **Fields:** `D`; `log_G` = ln G*; `log_hardness` = ln(H/E); `nu` = ν; `log_a_min` =
-    ln(l_min²/A_a). What a model derives from them (the Kogut–Etsion a_c, the PSD's moments) it
-    derives itself (`physics.kogut_etsion_laws`, `physics._spectrum`).
+    ln(l_min²/A_a); `log_length` = ln(√A_a / 1 m), the one dimensional number, for a model that
+    carries lengths of its own (`MeasuredAsperities`). What a model derives from them (the
+    Kogut–Etsion a_c, the PSD's moments) it derives itself (`physics.kogut_etsion_laws`, `physics._spectrum`).
     """
 
     D: Float[Array, ""]
@@ -57,6 +58,7 @@ class DimensionlessScene(eqx.Module):
     log_hardness: Float[Array, ""]
     nu: Float[Array, ""]
     log_a_min: Float[Array, ""]
+    log_length: Float[Array, ""]
 
 
 def nondimensionalise(scene) -> DimensionlessScene:
@@ -71,4 +73,5 @@ def nondimensionalise(scene) -> DimensionlessScene:
         log_hardness=jnp.log(m.H) - jnp.log(m.E),
         nu=jnp.asarray(m.nu),
         log_a_min=2.0 * (jnp.log(s.l_min) - log_sqrt_area),
+        log_length=log_sqrt_area,
     )

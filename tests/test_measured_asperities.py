@@ -1,0 +1,117 @@
+"""Greenwood–Williamson with measured asperity statistics (`jc.MeasuredAsperities`) against closed
+forms, scipy's quadrature of the tabulated PDF and central differences; on the Brake–Reuss joint's
+measured statistics where ../shared/data is present."""
+
+import math
+import pathlib
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import TABLE1
+from scipy import integrate, optimize
+
+import jaxcontact as jc
+from jaxcontact.numerics import x64
+
+E, AREA, R, ETA = 1e11, 1e-4, 1e-4, 1e9  # Pa, m², m, summits per m²
+HEIGHTS = np.linspace(0.0, 2e-6, 201)  # m
+GAUSSIAN = np.exp(-0.5 * ((HEIGHTS - 0.8e-6) / 0.3e-6) ** 2)  # normalised by the model
+LOADS = np.array([0.3, 3.0, 30.0])  # N
+JOINT = pathlib.Path(__file__).resolve().parents[2] / "shared" / "data" / "joints" / "brb_surface_data.mat"
+
+
+def scene_of(model, area=AREA, E=E):
+    surface = jc.Surface(D=TABLE1["D"], G=TABLE1["G"], l_min=TABLE1["l_min"])  # not used by the model
+    return jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), area, model=model)
+
+
+def _scipy_stiffness(F, z, pdf, radius, density, E, area):
+    """K at load F by scipy: the flat's height d from brentq on F(d), then K(d), each J_n by quad over
+    the linear interpolant of the PDF (normalised by the trapezoidal rule)."""
+    pdf = pdf / np.trapezoid(pdf, z)
+
+    def J(n, d):
+        inside = z[(z > d) & (z < z[-1])]
+        integrand = lambda x: (x - d) ** n * np.interp(x, z, pdf)  # noqa: E731
+        return integrate.quad(
+            integrand, d, z[-1], points=inside if inside.size else None, limit=4 * z.size, epsabs=0.0, epsrel=1e-12
+        )[0]
+
+    def load(d):
+        return area * density * 4 / 3 * E * math.sqrt(radius) * J(1.5, d)
+
+    d = optimize.brentq(lambda d: load(d) - F, z[0], z[-1], xtol=1e-18, rtol=1e-15)
+    return area * density * 2 * E * math.sqrt(radius) * J(0.5, d)
+
+
+def test_the_stiffness_is_scipys_quadrature_of_the_table():
+    scene = scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN))
+    expected = [_scipy_stiffness(F, HEIGHTS, GAUSSIAN, R, ETA, E, AREA) for F in LOADS]
+    np.testing.assert_allclose(jc.solve(scene, LOADS).stiffness, expected, rtol=1e-8)
+
+
+def test_a_uniform_pdf_gives_k_proportional_to_f_to_the_three_fifths():
+    """φ = 1/Δ on [0, Δ]: F = A η (4/3) E √R s^(5/2)/(5Δ/2), K = A η 2E √R s^(3/2)/(3Δ/2), s = Δ − d."""
+    delta = HEIGHTS[-1]
+    scene = scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, np.ones_like(HEIGHTS)))
+    s = (LOADS * 2.5 * delta / (AREA * ETA * 4 / 3 * E * math.sqrt(R))) ** 0.4
+    expected = AREA * ETA * 2 * E * math.sqrt(R) * s**1.5 / (1.5 * delta)
+    np.testing.assert_allclose(jc.solve(scene, LOADS).stiffness, expected, rtol=1e-10)
+
+
+def test_the_gradient_in_the_radius_is_central_differences():
+    scene = scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN))
+
+    @jax.jit
+    @jax.value_and_grad
+    def K(radius):
+        return jc.solve(eqx.tree_at(lambda s: s.model.radius, scene, radius), 3.0).stiffness
+
+    h = 1e-6 * R
+    central = (K(jnp.asarray(R + h))[0] - K(jnp.asarray(R - h))[0]) / (2 * h)
+    np.testing.assert_allclose(K(jnp.asarray(R))[1], central, rtol=1e-6)
+
+
+def test_float32_agrees_with_float64():
+    reference = jc.solve(scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN)), LOADS).stiffness
+    with x64(False):
+        model = jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN)
+        single = jc.solve(scene_of(model), LOADS.astype(np.float32)).stiffness
+    np.testing.assert_allclose(single, reference, rtol=1e-4)
+
+
+def test_a_load_beyond_every_summit_in_contact_is_flagged():
+    scene = scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN))
+    assert int(jc.solve(scene, 1e6).status) == jc.Status.LOAD_OUT_OF_RANGE
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        ((-1.0, ETA, HEIGHTS, GAUSSIAN), r"radius = -1.0 must be in \(0, inf\)"),
+        ((R, ETA, HEIGHTS[::-1], GAUSSIAN), r"heights must be finite and increasing"),
+        ((R, ETA, HEIGHTS, -GAUSSIAN), r"pdf must be finite, >= 0 and not all 0"),
+        ((R, ETA, HEIGHTS, GAUSSIAN[:-1]), r"heights and pdf have shapes \(201,\) and \(200,\)"),
+    ],
+)
+def test_bad_statistics_are_refused_by_name(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        jc.MeasuredAsperities(*arguments)
+
+
+@pytest.mark.skipif(not JOINT.is_file(), reason=f"{JOINT} is absent: the measured joint data live beside the project")
+def test_the_brake_reuss_joint_at_its_bolt_preload_is_scipys():
+    """The measured statistics (Porter & Brake 2023) over the patch of 362 summits, at 12.25 kN."""
+    from scipy import io
+
+    data = io.loadmat(JOINT)
+    z = data["normzinterp"].ravel() * data["z_max"].item()
+    pdf = data["pzinterp"].ravel() / data["z_max"].item()
+    radius, density = data["Re"].item(), data["area_density"].item()
+    E_star, area = 192.31e9 / (2 * (1 - 0.3**2)), 362 / density
+    scene = scene_of(jc.MeasuredAsperities(radius, density, z, pdf), area=area, E=E_star)
+    expected = _scipy_stiffness(12250.0, z, pdf, radius, density, E_star, area)
+    np.testing.assert_allclose(float(jc.solve(scene, 12250.0).stiffness), expected, rtol=1e-8)
