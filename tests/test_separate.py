@@ -143,3 +143,20 @@ def test_the_command_lines_forms_are_the_librarys():
     from jaxcontact.cli._surface_commands import FORMS
 
     assert set(FORMS) == set(tp._separate.FORMS)
+
+
+def test_a_mirror_symmetric_maps_mirrored_bem_is_its_periodic_one(roughness):
+    """A map that is its own mirror image: mirrored, it is the map tiled 2 × 2, so a periodic BEM at
+    four times the load gives four times its stiffness (to the solver's tolerance)."""
+    import jax.numpy as jnp
+
+    from jaxcontact.bem import solve
+
+    quarter = roughness[:32, :32]
+    symmetric = np.block([[quarter, quarter[:, ::-1]], [quarter[::-1, :], quarter[::-1, ::-1]]])
+    size = SIZE / 4  # 64 points at the map's spacing
+    mirror = tp.mirrored(st.Topography(symmetric, (size, size), periodic=False, unit="m"))
+    load = 1e-4 * 2e11 * size**2
+    alone = solve(jnp.asarray(symmetric), size, 2e11, jnp.array([load]), secant=0.02).secant_stiffness
+    tiled = solve(jnp.asarray(mirror.heights()), 2 * size, 2e11, jnp.array([4 * load]), secant=0.02)
+    np.testing.assert_allclose(tiled.secant_stiffness / 4, alone, rtol=1e-7)

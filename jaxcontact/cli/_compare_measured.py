@@ -3,6 +3,7 @@ characterised (D, G, l_min), and each model's own (D, G) fitted to the BEM curve
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from ._compare_table import compare_spec, comparison_table, plot_comparison
@@ -75,6 +76,7 @@ def compare_measured(args, out, cache, progress) -> int:
 
     from ..bem import SUBSTRATES, ReferenceCurves, bem_stiffness
     from ..studies._compare import Comparison, loads_for_fractions, model_curves
+    from ..topography import mirrored
     from ._report import write_csv
     from ._surface_commands import characterise_file
 
@@ -90,10 +92,16 @@ def compare_measured(args, out, cache, progress) -> int:
     surface = eqx.tree_at(lambda s: s.l_min, c.surface, l_min)
     scene = eqx.tree_at(lambda s: (s.surface, s.area), spec.scene, (surface, np.asarray(lx * ly)))
     loads = loads_for_fractions(scene, MEASURED_FRACTIONS)
-    substrate = None if args.substrate is None else SUBSTRATES[args.substrate]()
-    result = bem_stiffness(
-        topography, float(scene.material.E), loads, substrate=substrate, cache=cache, progress=progress
-    )
+    if args.substrate == "mirrored":
+        # Four copies of the map at four times its load: K of the map's own area is a quarter.
+        mirror = mirrored(topography)
+        result = bem_stiffness(mirror, float(scene.material.E), 4 * loads, cache=cache, progress=progress)
+        result = dataclasses.replace(result, loads=loads, stiffness=result.stiffness / 4)
+    else:
+        substrate = None if args.substrate is None else SUBSTRATES[args.substrate]()
+        result = bem_stiffness(
+            topography, float(scene.material.E), loads, substrate=substrate, cache=cache, progress=progress
+        )
     # One measured surface: no spread over realisations, no grid check.
     reference = ReferenceCurves((result,), seeds=(0,), grid=result.grid[0], convergence=None)
     comparison = Comparison(scene, reference, model_curves(scene, loads))
@@ -122,6 +130,7 @@ def compare_measured(args, out, cache, progress) -> int:
     summary = (
         f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
         + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
+        + (", the map and its mirror images: a periodic map of twice its side" if args.substrate == "mirrored" else "")
         + f")\n{separation}\n"
         f"{comparison_table(rows, list(comparison.models))}\n"
         + (

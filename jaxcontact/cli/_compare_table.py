@@ -48,7 +48,13 @@ def add_compare_options(p) -> None:
         help="the validation table against the BEM with the pressure capped at each hardness H (Pa), "
         "on --grid (256 advised) with jaxcontact.BEM",
     )
-    p.add_argument("--substrate", choices=("periodic", "free"), help="half-space for a measured map (--topography)")
+    p.add_argument(
+        "--substrate",
+        choices=("periodic", "free", "mirrored"),
+        help="half-space for a measured map (--topography): the map repeated as it is (periodic), alone on an "
+        "infinite half-space (free: its K measures the map's size above ~1 %% contact), or repeated with its "
+        "mirror images (mirrored: periodic without an edge step, twice the side)",
+    )
     p.add_argument(
         "--no-fit", dest="fit", action="store_false", help="with --topography: skip the fits to the BEM curve"
     )

@@ -16,7 +16,7 @@ from ._kind import AbstractKind, AbstractMeasurementKind, Areal, Profile, Stitch
 from ._psd import NoBandError
 from ._read import read
 from ._result import Characterisation
-from ._separate import AbstractForm, Curvature, Mean, Polynomial, Separated, Tilt, separate
+from ._separate import AbstractForm, Curvature, Mean, Polynomial, Separated, Tilt, mirrored, separate
 from ._stitch import characterise_stitched
 from ._synthesis import areal_map, random_profile, wm_profile
 from ._uncertainty import StiffnessBand, stiffness_band
@@ -45,6 +45,7 @@ __all__ = [
     "characterise_stitched",
     "convert_G",
     "profile_prefactor",
+    "mirrored",
     "random_profile",
     "read",
     "separate",

@@ -153,6 +153,24 @@ def longest_roughness_wavelength(cutoff: float) -> float:
     return cutoff * ALPHA * math.sqrt(math.pi / -math.log(1.0 - KEPT))
 
 
+def mirrored(topography):
+    """A measured map made periodic by its mirror images: the map and its reflections in x, in y and in
+    both, a periodic map of twice its side (no step where it repeats, unlike the map repeated as it
+    is). A periodic BEM on it gives, at four times the load, four times the stiffness of the map's own
+    area where the mirror images carry alike.
+
+    **Arguments:** an areal SurfaceTopography map. **Returns:** the periodic `Topography`, 2n × 2m
+    points over twice the sides, `info` kept.
+    """
+    st = optional_import("SurfaceTopography", "mirroring a map")
+    z = np.asarray(topography.heights(), dtype=float)
+    if z.ndim != 2:
+        raise InputError("mirrored needs an areal map: a line scan has no second direction to mirror")
+    tiled = np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
+    sizes = tuple(2.0 * float(s) for s in topography.physical_sizes)
+    return st.Topography(tiled, sizes, periodic=True, unit="m", info=dict(topography.info))
+
+
 def lowest_roughness_q(topography) -> float | None:
     """The lowest wavevector (rad/m) a band may use on a roughness split off at a waviness cutoff
     (`info["waviness_cutoff"]`, set by `separate`); None for a measurement not split."""
