@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from helpers import refused_type
 
 pytest.importorskip("SurfaceTopography")
 import SurfaceTopography as st  # noqa: E402
@@ -123,12 +124,16 @@ def test_a_split_roughness_is_fitted_only_where_it_keeps_its_amplitude(waved):
         ),
         (lambda t: tp.separate(t, waviness_cutoff=True), r"waviness_cutoff = True m must lie in"),
         (lambda t: tp.separate(t, tp.Polynomial(0)), r"degree = 0 must be an integer in \[1, 10\]"),
-        (lambda t: tp.separate(t, "tilt"), r"form = 'tilt': give the object, jaxcontact.topography.Tilt\(\)"),
     ],
 )
 def test_bad_choices_name_the_parameter_and_its_range(on_a_paraboloid, call, message):
     with pytest.raises(ValueError, match=message):
         call(on_a_paraboloid)
+
+
+def test_a_form_given_by_name_is_refused_with_its_object(on_a_paraboloid):
+    with refused_type("form", r"form = 'tilt': give the object, jaxcontact.topography.Tilt\(\)"):
+        tp.separate(on_a_paraboloid, "tilt")
 
 
 def test_the_surface_command_says_what_it_removed(tmp_path, capsys, on_a_paraboloid):
