@@ -4,7 +4,8 @@ Against the plain scipy implementation (`scipy_baseline`: quad + brentq, what a 
 otherwise write): a 200-load curve, the gradient of a fitting loss (against finite differences
 of the baseline), and a full D/G fit (against `scipy.optimize.least_squares` on the baseline).
 Also: compile time, throughput over 1e5 loads with and without interaction, what each effect
-costs, and the persistent compilation cache of the CLI. Times are after compilation, best of
+costs, an interface law of 1000 pressures per analytic model, and the persistent compilation
+cache of the CLI. Times are after compilation, best of
 several repeats; nothing here is asserted (timings are not tests).
 """
 
@@ -171,6 +172,40 @@ def compilation_cache() -> dict:
     return {"cold_s": times[0], "warm_s": times[1], "cache_entries": entries}
 
 
+# The analytic models an interface law is timed with (`interface`).
+INTERFACE_MODELS = ("xia2024", "jzz2010", "gw", "persson")
+
+
+def interface(scene: Scene, pressures: int = 1000) -> dict:
+    """`jc.interface_law(scene, pressures)` as users call it, over four decades of nominal pressure
+    from F* = 1e-9, per analytic model: median and best of 15 calls after compilation (s), and the
+    median over one `solve` of as many loads (the closure's quadrature and the unloading columns
+    on top of the loading curve)."""
+    from ..applications import interface_law
+
+    out = {}
+    for name in INTERFACE_MODELS:
+        variant = scene.with_model(name)
+        E = float(variant.material.E)
+        p = np.geomspace(1e-9 * E, 1e-5 * E, pressures)
+        jax.block_until_ready(interface_law(variant, p).closure)
+        times = []
+        for _ in range(15):
+            t = time.perf_counter()
+            jax.block_until_ready(interface_law(variant, p).tangential_stiffness)
+            times.append(time.perf_counter() - t)
+        loads = p * float(variant.area)
+        jax.block_until_ready(solve(variant, loads).stiffness)
+        solves = []
+        for _ in range(15):
+            t = time.perf_counter()
+            jax.block_until_ready(solve(variant, loads).stiffness)
+            solves.append(time.perf_counter() - t)
+        median = float(np.median(times))
+        out[name] = {"median_s": median, "best_s": float(min(times)), "over_solve": median / float(np.median(solves))}
+    return out
+
+
 def run_all(scene: Scene, progress=None) -> dict:
     """Every timing of the bench. Its compile times are compilations only in a process that keeps
     no persistent compilation cache (the command line runs the bench without one; a process that
@@ -183,6 +218,7 @@ def run_all(scene: Scene, progress=None) -> dict:
         ("fit", fit),
         ("throughput", throughput),
         ("effects", effects_table),
+        ("interface", interface),
         ("compilation_cache", lambda s: compilation_cache()),
     ]
     results = {

@@ -59,6 +59,7 @@ def format_results(r: dict) -> str:
         f"(target < 3 s: {verdict(max(no_int['compile_s'], with_int['compile_s']) < 3)})",
         f"CLI persistent compilation cache: `jaxcontact run` cold {r['compilation_cache']['cold_s']:.2f} s, warm "
         f"{r['compilation_cache']['warm_s']:.2f} s",
+        *_interface_lines(r.get("interface"), verdict),
         "",
         "what each effect costs (20000 loads):",
         f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}",
@@ -70,6 +71,18 @@ def format_results(r: dict) -> str:
             f"{e['points_per_s']:10.3g}"
         )
     return "\n".join(lines)
+
+
+def _interface_lines(timings: dict | None, verdict) -> list[str]:
+    """The interface law's line of the report (none where the run did not time it)."""
+    if not timings:
+        return []
+    cells = ", ".join(
+        f"{name} {1e3 * t['median_s']:.1f} / {1e3 * t['best_s']:.1f} ms ({t['over_solve']:.1f}x its solve)"
+        for name, t in timings.items()
+    )
+    slowest = max(t["median_s"] for t in timings.values())
+    return [f"interface law, 1000 pressures (median / best): {cells} (target < 10 ms: {verdict(slowest < 0.01)})"]
 
 
 def format_markdown(r: dict, machine: str, date: str) -> str:
