@@ -45,7 +45,7 @@ def test_the_closure_is_scipys_quadrature_of_area_over_stiffness(scene, law):
 
 def test_the_default_nodes_for_these_pressures_give_the_eight_node_closure(scene, law):
     # 40 pressures over four decades: steps of 0.24 in ln p, where 4 nodes per piece are chosen.
-    eight = jc.interface_law(scene, PRESSURES, nodes=8)
+    eight = jc.interface_law(scene, PRESSURES, nodes=8, in_service=False)
     np.testing.assert_allclose(law.closure[1:], eight.closure[1:], rtol=1e-11)
 
 
@@ -65,7 +65,7 @@ def test_the_closures_gradient_in_d_is_central_differences(table1_without_intera
     @jax.value_and_grad
     def closure(D, scene):
         scene = eqx.tree_at(lambda s: s.surface.D, scene, D)
-        return jc.interface_law(scene, jnp.array([1e6]), P0).closure[0]
+        return jc.interface_law(scene, jnp.array([1e6]), P0, in_service=False).closure[0]
 
     D, h = jnp.asarray(TABLE1["D"]), 1e-6
     fd = (closure(D + h, table1_without_interaction)[0] - closure(D - h, table1_without_interaction)[0]) / (2 * h)
@@ -242,7 +242,7 @@ def test_calculix_carries_the_pressure_through_the_interface(calculix, fraction)
 def test_calculix_closes_the_interface_by_the_librarys_closure(scene, calculix, fraction):
     _, closure, _ = calculix
     p = fraction * P_MAX
-    expected = float(jc.interface_law(scene, np.array([p]), P0).closure[0])
+    expected = float(jc.interface_law(scene, np.array([p]), P0, in_service=False).closure[0])
     np.testing.assert_allclose(-closure[fraction][:, 0], expected, rtol=1e-2)
 
 
@@ -295,7 +295,7 @@ def test_the_command_refuses_pressures_out_of_order(tmp_path, capsys):
 
 def test_float32_gives_the_float64_closure_within_1e4(law):
     with x64(False):
-        law32 = jc.interface_law(make_scene(**TABLE1), PRESSURES[::8].astype(np.float32))
+        law32 = jc.interface_law(make_scene(**TABLE1), PRESSURES[::8].astype(np.float32), in_service=False)
         assert law32.closure.dtype == np.float32
         np.testing.assert_allclose(np.asarray(law32.closure)[1:], np.asarray(law.closure)[::8][1:], rtol=1e-4)
 
@@ -314,6 +314,11 @@ def test_the_tangential_column_is_mindlins_ratio_times_the_dynamic_one(law):
 
 def test_the_paper_readings_unloading_breakdown_is_flagged_at_the_highest_pressure(law):
     assert int(law.unloading_status[-1]) == jc.Status.INTERACTION_BREAKDOWN
+
+
+def test_a_law_without_its_in_service_columns_says_so(scene):
+    law = jc.interface_law(scene, PRESSURES, in_service=False)
+    np.testing.assert_array_equal(law.unloading_status, jc.Status.INVALID_PARAMETERS)
 
 
 def test_a_flagged_unloading_leaves_its_columns_nan(law):

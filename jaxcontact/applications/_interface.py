@@ -73,6 +73,7 @@ def interface_law(
     reference_pressure: float | Float[ArrayLike, ""] | None = None,
     *,
     nodes: int | None = None,
+    in_service: bool = True,
 ) -> InterfaceLaw:
     """The interface law of `scene` per unit area at nominal `pressures`.
 
@@ -88,9 +89,15 @@ def interface_law(
       of concrete pressures (`quadrature_nodes`), which keeps the closure within ~1e-12 of a 16-node
       rule; 8 for traced ones.
 
+    - `in_service`: also the unloading and tangential stiffness (one more solve, for a model that
+      does not unload as it loads); False leaves those columns NaN with `unloading_status`
+      `INVALID_PARAMETERS`, for a caller that wants the closure alone.
+
     **Returns:** an `InterfaceLaw`. Differentiable with respect to the pressures and the scene's
     parameters; `vmap` over scenes or pressure arrays as `solve`.
     """
+    if not isinstance(in_service, bool):
+        raise InputError(f"in_service = {in_service!r} must be true or false")
     pressures = jnp.asarray(pressures)
     if pressures.ndim != 1 or pressures.size == 0:
         raise InputError(f"pressures has shape {pressures.shape}: give a 1-D array of nominal pressures (Pa)")
@@ -110,7 +117,7 @@ def interface_law(
     closure = approach_quadrature(scene, loads, reference_pressure * area, nodes=nodes)
     status = jnp.where(solution.status != Status.OK, solution.status, closure.status)
     ok = status == Status.OK
-    dynamic, unloading_status = _unloading(scene, loads, status, solution.stiffness)
+    dynamic, unloading_status = _unloading(scene, loads, status, solution.stiffness, in_service)
     unloaded = unloading_status == Status.OK
     return InterfaceLaw(
         pressure=pressures.astype(solution.stiffness.dtype),
@@ -129,11 +136,11 @@ def interface_law(
 _UNLOADING = Outputs(regime_shares=False, stiffness=Unloading())
 
 
-def _unloading(scene: Scene, loads, status, loading):
+def _unloading(scene: Scene, loads, status, loading, wanted: bool):
     """The unloading stiffness (N/m) at `loads` and its status, which is the loading `status` where that
     is not ok; the `loading` stiffness itself for a model that unloads as it loads (no second solve);
-    `INVALID_PARAMETERS` for a model without an unloading law."""
-    if not has_unloading_law(scene.model):
+    `INVALID_PARAMETERS` for a model without an unloading law or where they are not `wanted`."""
+    if not (wanted and has_unloading_law(scene.model)):
         return jnp.full(loads.shape, jnp.nan), jnp.full(loads.shape, Status.INVALID_PARAMETERS, jnp.int32)
     if scene.model.unloads_as_it_loads():
         return loading, status
