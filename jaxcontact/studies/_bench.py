@@ -29,7 +29,7 @@ from scipy import optimize
 from ..core import Outputs, Scene, solve
 from ..quantities import Scales
 from ._bench_user import curve_as_users_call_it
-from ._curve import _arrays, _baseline, best_of, curve
+from ._curve import _arrays, _baseline, best_of, curve, stats
 from ._scipy_baseline import solve_curve
 
 TARGETS = {
@@ -176,6 +176,17 @@ def compilation_cache() -> dict:
 INTERFACE_MODELS = ("xia2024", "jzz2010", "gw", "persson")
 
 
+def _called(fn, repeats: int = 15) -> dict:
+    """`stats` of `repeats` calls of `fn` after one that compiles it."""
+    jax.block_until_ready(fn())
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(fn())
+        times.append(time.perf_counter() - t)
+    return stats(times)
+
+
 def interface(scene: Scene, pressures: int = 1000) -> dict:
     """`jc.interface_law(scene, pressures)` as users call it, over four decades of nominal pressure
     from F* = 1e-9, per analytic model: median and best of 15 calls after compilation (s), and the
@@ -186,23 +197,14 @@ def interface(scene: Scene, pressures: int = 1000) -> dict:
     out = {}
     for name in INTERFACE_MODELS:
         variant = scene.with_model(name)
-        E = float(variant.material.E)
-        p = np.geomspace(1e-9 * E, 1e-5 * E, pressures)
-        jax.block_until_ready(interface_law(variant, p).closure)
-        times = []
-        for _ in range(15):
-            t = time.perf_counter()
-            jax.block_until_ready(interface_law(variant, p).tangential_stiffness)
-            times.append(time.perf_counter() - t)
-        loads = p * float(variant.area)
-        jax.block_until_ready(solve(variant, loads).stiffness)
-        solves = []
-        for _ in range(15):
-            t = time.perf_counter()
-            jax.block_until_ready(solve(variant, loads).stiffness)
-            solves.append(time.perf_counter() - t)
-        median = float(np.median(times))
-        out[name] = {"median_s": median, "best_s": float(min(times)), "over_solve": median / float(np.median(solves))}
+        p = np.geomspace(1e-9, 1e-5, pressures) * float(variant.material.E)
+        law = _called(lambda: interface_law(variant, p).tangential_stiffness)
+        curve_only = _called(lambda: solve(variant, p * float(variant.area)).stiffness)
+        out[name] = {
+            "median_s": law["median_s"],
+            "best_s": law["best_s"],
+            "over_solve": law["median_s"] / curve_only["median_s"],
+        }
     return out
 
 
