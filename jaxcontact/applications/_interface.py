@@ -88,7 +88,6 @@ def interface_law(
       pieces run between consecutive pressures, p0 and the model's kinks). Default: from the spacing
       of concrete pressures (`quadrature_nodes`), which keeps the closure within ~1e-12 of a 16-node
       rule; 8 for traced ones.
-
     - `in_service`: also the unloading and tangential stiffness (one more solve, for a model that
       does not unload as it loads); False leaves those columns NaN with `unloading_status`
       `INVALID_PARAMETERS`, for a caller that wants the closure alone.

@@ -46,7 +46,7 @@ def psd_figure(spectrum, local, path, *, ylabel, fit=None, D=None, band=None, su
 
 
 def spectrum_figure(c, ylabel, xlabel, path):
-
+    """A structure function (or spectrum) with its fit, band and the tip's reliability cutoff."""
     fig, ax = subplots()
     x, y = c.spectrum
     keep = (x > 0) & (y > 0)
@@ -94,7 +94,7 @@ def plot_band(band, title, path, others=None, model: str = "") -> str:
 
 
 def psd_figure_stitched(c, path) -> str:
-
+    """The joined spectrum of stitched measurements with its fit (no local slope)."""
     return psd_figure(
         c.spectrum,
         (c.spectrum[0], c.spectrum[0] * float("nan")),

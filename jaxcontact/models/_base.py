@@ -193,8 +193,8 @@ class AbstractJoint(eqx.Module):
     @abc.abstractmethod
     def unloading_stiffness(self, log_a_l, log_load) -> tuple[Float[Array, " regimes"], Bool[Array, ""]]:
         """Each regime's initial unloading stiffness from the solved `a_l` (every spot unloads
-        elastically: the loading law's stiffness for an elastic spot, Sneddon's `2E*r` for one that
-        flowed), and the breakdown flag."""
+        elastically, one that flowed with the elastic stiffness of its contact area at the top), and
+        the breakdown flag."""
 
 
 def _piece_residual(log_a_l, args):

@@ -52,8 +52,9 @@ class Loading(AbstractStiffness):
 
 class Unloading(AbstractStiffness):
     """The initial unloading tangent at the state the load reaches on loading: every spot unloads
-    elastically, a spot that flowed with `2E*r` of its contact radius at the top; the dynamic
-    stiffness of a small vibration about a preload. Equal to `Loading()` for an elastic model."""
+    elastically, a spot that flowed with the elastic stiffness of its contact area at the top
+    (Sneddon's `2E*r`, or the model's own elastic spot law); the dynamic stiffness of a small
+    vibration about a preload. Equal to `Loading()` for an elastic model."""
 
     name: ClassVar[str] = "unloading"
     unloading: ClassVar[bool] = True
