@@ -82,26 +82,26 @@ def _open(path: pathlib.Path):
     )
 
 
+def from_heights(heights, sizes, *, periodic: bool = False, unit: str = "m", info: dict | None = None):
+    """A SurfaceTopography line scan (1-D `heights`) or map (2-D) over the physical `sizes`."""
+    st = optional_import("SurfaceTopography", "building a topography")
+    options = dict(periodic=periodic, unit=unit, info={} if info is None else info)
+    if np.ndim(heights) == 1:
+        return st.UniformLineScan(heights, sizes[0], **options)
+    return st.Topography(heights, tuple(sizes), **options)
+
+
 def _npy_topography(path: pathlib.Path, kwargs):
     """What SurfaceTopography's NPY reader gives (`kwargs` as its `topography`), the array read by numpy:
     its serial path copies the array element by element (15 s for a 2048² map)."""
-    st = optional_import("SurfaceTopography", "reading a topography file")
     heights = np.load(path, allow_pickle=False)
-    sizes = kwargs["physical_sizes"]
-    options = dict(periodic=False, unit=kwargs["unit"], info=kwargs.get("info", {}))
-    if heights.ndim == 1:
-        return st.UniformLineScan(heights, sizes[0], **options)
-    return st.Topography(heights, sizes, **options)
+    return from_heights(heights, kwargs["physical_sizes"], unit=kwargs["unit"], info=kwargs.get("info", {}))
 
 
 def _rebuilt(topography, sizes, filled: float):
     """The same heights (m) with the physical sizes `sizes` (m), and the fraction of them `filled`."""
-    st = optional_import("SurfaceTopography", "reading a topography file")
-    heights, periodic = topography.heights(), topography.is_periodic
     info = {**topography.info, "filled_fraction": filled}
-    if topography.dim == 1:
-        return st.UniformLineScan(heights, sizes[0], periodic=periodic, unit="m", info=info)
-    return st.Topography(heights, tuple(sizes), periodic=periodic, unit="m", info=info)
+    return from_heights(topography.heights(), sizes, periodic=topography.is_periodic, info=info)
 
 
 def read(path, *, size=None, unit=None, tip_radius=None, fill_undefined: bool = False):

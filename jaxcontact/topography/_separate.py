@@ -22,6 +22,7 @@ import equinox as eqx
 import numpy as np
 
 from ..numerics._validate import InputError, check_strategy, optional_import
+from ._read import from_heights
 
 # ISO 16610-21: the Gaussian weighting function's constant; the filter passes half the amplitude at λc.
 ALPHA = math.sqrt(math.log(2.0) / math.pi)
@@ -128,9 +129,9 @@ class Separated:
     waviness_cutoff: float | None
 
     def removed(self) -> str:
-        """What was taken out, in words, with the rms height of each part (also the roughness's
+        """What was taken out, in words, with the rms height of each part (the roughness's
         `info["separation"]`)."""
-        return _removed(self.form, self.form_heights, self.waviness, self.waviness_cutoff, self.roughness.heights())
+        return self.roughness.info["separation"]
 
 
 def _rms(z) -> float:
@@ -162,13 +163,12 @@ def mirrored(topography):
     **Arguments:** an areal SurfaceTopography map. **Returns:** the periodic `Topography`, 2n × 2m
     points over twice the sides, `info` kept.
     """
-    st = optional_import("SurfaceTopography", "mirroring a map")
     z = np.asarray(topography.heights(), dtype=float)
     if z.ndim != 2:
         raise InputError("mirrored needs an areal map: a line scan has no second direction to mirror")
     tiled = np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
     sizes = tuple(2.0 * float(s) for s in topography.physical_sizes)
-    return st.Topography(tiled, sizes, periodic=True, unit="m", info=dict(topography.info))
+    return from_heights(tiled, sizes, periodic=True, info=dict(topography.info))
 
 
 def lowest_roughness_q(topography) -> float | None:
@@ -193,7 +193,6 @@ def separate(topography, form: AbstractForm = Curvature(), waviness_cutoff: floa
     **Returns:** a `Separated`. **Raises:** `ValueError` naming `form` or `waviness_cutoff` and its valid
     range.
     """
-    st = optional_import("SurfaceTopography", "separating form and waviness")
     check_strategy("form", form, AbstractForm, FORMS, "jaxcontact.topography")
     sizes = tuple(float(s) for s in np.atleast_1d(topography.physical_sizes))
     grid = tuple(int(n) for n in np.atleast_1d(topography.nb_grid_pts))
@@ -222,8 +221,5 @@ def separate(topography, form: AbstractForm = Curvature(), waviness_cutoff: floa
     # The filter wraps round a periodic map, and a constant keeps it periodic; a tilt does not.
     periodic = topography.is_periodic and isinstance(form, Mean)
     info["separation"] = _removed(form, form_heights, waviness, waviness_cutoff, rest)
-    if rest.ndim == 1:
-        roughness = st.UniformLineScan(rest, sizes[0], periodic=periodic, unit="m", info=info)
-    else:
-        roughness = st.Topography(rest, sizes, periodic=periodic, unit="m", info=info)
+    roughness = from_heights(rest, sizes, periodic=periodic, info=info)
     return Separated(roughness, waviness, form_heights, form, waviness_cutoff)
