@@ -30,10 +30,8 @@ def cmd_run(args) -> int:
     if getattr(args, "stiffness", None):
         from ._scenefile import stiffness_of
 
-        outputs = spec.outputs
-        spec = dataclasses.replace(
-            spec, outputs=type(outputs)(regime_shares=outputs.regime_shares, stiffness=stiffness_of(args.stiffness))
-        )
+        outputs = dataclasses.replace(spec.outputs, stiffness=stiffness_of(args.stiffness))
+        spec = dataclasses.replace(spec, outputs=outputs)
     if spec.outputs.stiffness.name != "loading":
         notes.insert(0, f"K is the {STIFFNESS_WORDS[spec.outputs.stiffness.name]} (docs/in-service.md)")
     if spec.scene.model.name == "bem":
