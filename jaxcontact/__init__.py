@@ -81,6 +81,7 @@ from .physics import (
 )
 from .quantities import (
     PARAMETERS,
+    Branch,
     DimensionlessScene,
     Material,
     ParameterSpec,
@@ -131,6 +132,7 @@ __all__ = [
     "Solution",
     "Status",
     "StatusError",
+    "Branch",
     "status_message",
     "Scales",
     "PARAMETERS",

@@ -99,6 +99,7 @@ LONGEST_FIRST = (
     "test_bem_scale.py",
     "test_bem.py",
     "test_api.py",
+    "test_bem_path.py",
     "test_in_service.py",
     "test_measured_asperities.py",
     "test_inference.py",

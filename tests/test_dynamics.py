@@ -72,7 +72,7 @@ def test_gradient_of_steady_amplitude(table1_without_interaction):
     # traced, not folded into the program as constants.
     @jax.jit
     def amplitude(D, scene):
-        return steady_amplitude(eqx.tree_at(lambda s: s.surface.D, scene, D), d, periods=60, rtol=1e-11)[0]
+        return steady_amplitude(eqx.tree_at(lambda s: s.surface.D, scene, D), d, periods=30, rtol=1e-11)[0]
 
     g = jax.grad(amplitude)(jnp.asarray(TABLE1["D"]), table1_scene)
     h = 1e-5

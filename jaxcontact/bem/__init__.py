@@ -1,7 +1,8 @@
 """The elastic boundary-element reference (docs/model.md §10).
 
 `solve(heights, size, modulus, loads)` is the boundary-element contact in JAX: jit-compiled,
-vmappable, differentiable, with an optional hardness cap. `bem_stiffness(topography, E, loads)`
+vmappable, differentiable, with an optional hardness cap; `solve_path` follows a load path on it,
+the plastic flattening kept. `bem_stiffness(topography, E, loads)`
 solves the same problem with ContactMechanics (the `bem` extra), the independent check;
 `reference_curves(scene, loads)` synthesises realisations of a scene's surface and reports their
 mean, spread and the grid's convergence, cached on disk (`ResultCache`).
@@ -12,6 +13,7 @@ from ._cache import CacheWarning, ResultCache, default_directory
 from ._contact import ContactSolution, solve
 from ._model import BEM
 from ._operator import SUBSTRATES, AbstractSubstrate, Free, Periodic
+from ._path import PathSolution, solve_path
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._study import REFERENCES, ReferenceCurves, jax_curve, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
@@ -26,6 +28,7 @@ __all__ = [
     "ContactSolution",
     "Free",
     "Periodic",
+    "PathSolution",
     "REFERENCES",
     "ReferenceCurves",
     "ResultCache",
@@ -37,6 +40,7 @@ __all__ = [
     "realisation",
     "reference_curves",
     "solve",
+    "solve_path",
     "synthesised_surface",
 ]
 

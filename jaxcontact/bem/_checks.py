@@ -15,7 +15,8 @@ SMALLEST_GRID = 8
 MAX_TOLERANCE = 1e-5
 
 
-def check_arguments(heights, size, modulus, loads, hardness) -> None:
+def check_arguments(heights, size, modulus, loads, hardness, loads_name: str = "loads") -> None:
+    """`ValueError` for concrete arguments a solve cannot take; `loads_name` names the loads argument."""
     shape = jnp.shape(heights)
     if len(shape) != 2 or shape[0] != shape[1]:
         raise InputError(f"heights has shape {shape}: the boundary-element solve takes a square map (n × n)")
@@ -37,8 +38,8 @@ def check_arguments(heights, size, modulus, loads, hardness) -> None:
     if hardness is not None:
         check_range("hardness", hardness, 0.0, meaning="Pa")
     if jnp.ndim(loads) != 1 or jnp.shape(loads)[0] == 0:
-        raise InputError(f"{assigned('loads', repr(jnp.shape(loads)))} must be a non-empty 1-D array of loads (N)")
-    check_range("loads", loads, 0.0, meaning="N")
+        raise InputError(f"{assigned(loads_name, repr(jnp.shape(loads)))} must be a non-empty 1-D array of loads (N)")
+    check_range(loads_name, loads, 0.0, meaning="N")
 
 
 def check_iteration(tolerance, max_iterations) -> None:

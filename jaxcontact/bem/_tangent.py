@@ -78,3 +78,10 @@ def frozen_solution(
     offset = (total - jnp.sum(plastic_pressure) - jnp.sum(jax.lax.stop_gradient(x1) * rhs)) / stiffness
     pressure = jnp.where(active, x2 + offset * x1, plastic_pressure)
     return pressure, offset, stiffness
+
+
+def elastic_stiffness(compliance: Compliance, contact, tolerance: float):
+    """`Σ C_CC⁻¹ 1` on the contact set C, plastic points included: the tangent of a small unload,
+    in which every point in contact moves with the surface (grid units)."""
+    ones = jnp.where(contact, 1.0, 0.0).astype(compliance.stiffness.dtype)
+    return jnp.sum(jnp.where(contact, _active_solve(compliance, contact, ones, jnp.zeros_like(ones), tolerance), 0.0))

@@ -6,9 +6,10 @@ from ._domain import PARAMETERS, ParameterSpec, implausible
 from ._pair import contact_modulus, tangential_contact_modulus
 from ._parameters import Material, Surface
 from ._scales import DimensionlessScene, Scales, nondimensionalise
-from ._status import Status, StatusError, status_message
+from ._status import Branch, Status, StatusError, status_message
 
 __all__ = [
+    "Branch",
     "DimensionlessScene",
     "implausible",
     "Material",

@@ -67,3 +67,13 @@ def status_message(code: int | np.integer | Int[ArrayLike, ""]) -> str:
         return Status(int(code)).name.lower()
     except ValueError:
         return f"unknown_status_{int(code)}"
+
+
+class Branch(enum.IntEnum):
+    """Which branch of a load path a point lies on (`bem.solve_path`): reached by loading beyond
+    every earlier load (`LOADING`, where plastic flow can occur), by unloading (`UNLOADING`), or by
+    loading again below the largest earlier load (`RELOADING`); the last two are elastic."""
+
+    LOADING = 0
+    UNLOADING = 1
+    RELOADING = 2

@@ -4,8 +4,8 @@ Against the plain scipy implementation (`scipy_baseline`: quad + brentq, what a 
 otherwise write): a 200-load curve, the gradient of a fitting loss (against finite differences
 of the baseline), and a full D/G fit (against `scipy.optimize.least_squares` on the baseline).
 Also: compile time, throughput over 1e5 loads with and without interaction, what each effect
-costs, an interface law of 1000 pressures per analytic model, and the persistent compilation
-cache of the CLI. Times are after compilation, best of
+costs, an interface law of 1000 pressures per analytic model, a load–unload path of the capped BEM,
+and the persistent compilation cache of the CLI. Times are after compilation, best of
 several repeats; nothing here is asserted (timings are not tests).
 """
 
@@ -208,6 +208,24 @@ def interface(scene: Scene, pressures: int = 1000) -> dict:
     return out
 
 
+def bem_path(scene: Scene, grid: int = 256) -> dict:
+    """`bem.solve_path` of a 10-point load–unload path (five loads up to F* = 3e-3, five down) on a
+    capped rough map (D = 1.5, rms slope ~0.15, H = 0.015 E*, `grid`²), as users call it, against
+    `bem.solve` of the same ten loads: median and best of 5 calls after compilation (s)."""
+    del scene  # the map is the BEM's own
+    from .. import bem
+
+    size = 100e-6
+    modulus = 210e9 / (1 - 0.3**2)
+    heights = jnp.asarray(bem.realisation(1.5, 1e-9, size / 64, size, grid, 0).heights())
+    up = np.geomspace(3e-4, 3e-3, 5) * modulus * size * size
+    path = jnp.asarray(np.concatenate([up, up[::-1][1:] * 0.9, [0.5 * up[0]]]))
+    hardness = 0.015 * modulus
+    along = _called(lambda: bem.solve_path(heights, size, modulus, path, hardness=hardness).stiffness, repeats=5)
+    apart = _called(lambda: bem.solve(heights, size, modulus, path, hardness=hardness).stiffness, repeats=5)
+    return {"path": along, "solve": apart, "over_solve": along["median_s"] / apart["median_s"]}
+
+
 def run_all(scene: Scene, progress=None) -> dict:
     """Every timing of the bench. Its compile times are compilations only in a process that keeps
     no persistent compilation cache (the command line runs the bench without one; a process that
@@ -221,6 +239,7 @@ def run_all(scene: Scene, progress=None) -> dict:
         ("throughput", throughput),
         ("effects", effects_table),
         ("interface", interface),
+        ("bem_path", bem_path),
         ("compilation_cache", lambda s: compilation_cache()),
     ]
     results = {

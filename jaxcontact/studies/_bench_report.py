@@ -60,6 +60,7 @@ def format_results(r: dict) -> str:
         f"CLI persistent compilation cache: `jaxcontact run` cold {r['compilation_cache']['cold_s']:.2f} s, warm "
         f"{r['compilation_cache']['warm_s']:.2f} s",
         *_interface_lines(r.get("interface"), verdict),
+        *_path_lines(r.get("bem_path"), verdict),
         "",
         "what each effect costs (20000 loads):",
         f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}",
@@ -83,6 +84,18 @@ def _interface_lines(timings: dict | None, verdict) -> list[str]:
     )
     slowest = max(t["median_s"] for t in timings.values())
     return [f"interface law, 1000 pressures (median / best): {cells} (target < 10 ms: {verdict(slowest < 0.01)})"]
+
+
+def _path_lines(timing: dict | None, verdict) -> list[str]:
+    """The capped BEM path's line of the report (none where the run did not time it)."""
+    if not timing:
+        return []
+    path, apart = timing["path"], timing["solve"]
+    return [
+        f"capped BEM 256², 10-point load–unload path (median / best): {path['median_s']:.3f} / {path['best_s']:.3f} s; "
+        f"bem.solve of the same loads {apart['median_s']:.3f} / {apart['best_s']:.3f} s; "
+        f"{timing['over_solve']:.2f}x (target <= 1.5x: {verdict(timing['over_solve'] <= 1.5)})"
+    ]
 
 
 def format_markdown(r: dict, machine: str, date: str) -> str:
