@@ -20,6 +20,7 @@ from jaxcontact import (
     JointResponse,
     NewtonBisection,
     PowerLaw,
+    SpotFamilies,
     hertz_stiffness,
     kogut_etsion_laws,
     size_distribution,
@@ -61,3 +62,10 @@ class AllElasticJoint(AbstractJoint):
 
     def unloading_stiffness(self, log_a_l, log_load):
         return self.response(log_a_l, log_load).regime_stiffness, jnp.array(False)  # elastic spots
+
+    def spots(self, log_a_l, log_load):
+        count = size_distribution(self.D, log_a_l, 0.0) * PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D))
+        one = lambda law: PowerLaw(law.log_coeff[None], law.exponent[None])  # noqa: E731
+        return SpotFamilies.without_interaction(
+            one(count), one(self.load_law), one(hertz_stiffness(self.D)), self.log_a_min[None], log_a_l[None]
+        )

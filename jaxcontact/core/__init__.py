@@ -7,6 +7,7 @@ from ._prepare import prepare
 from ._scene import Scene, stack_scenes
 from ._settings import Outputs
 from ._solution import Solution
+from ._tangential import TangentialCycle, tangential_cycle
 
 __all__ = [
     "dynamic_stiffness",
@@ -21,4 +22,6 @@ __all__ = [
     "table1_scene",
     "table1_values",
     "tangential_stiffness",
+    "TangentialCycle",
+    "tangential_cycle",
 ]

@@ -19,6 +19,7 @@ from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPie
 from ._measured_asperities import MeasuredAsperities
 from ._persson import Persson
 from ._registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, SPOT_STIFFNESSES, build_model, register_model
+from ._spots import SpotFamilies
 from ._xia2024 import Xia2024
 
 __all__ = [
@@ -36,6 +37,7 @@ __all__ = [
     "GreenwoodWilliamson",
     "INTERACTIONS",
     "JointResponse",
+    "SpotFamilies",
     "JZZ2010",
     "MeasuredAsperities",
     "MODELS",

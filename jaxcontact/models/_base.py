@@ -28,6 +28,7 @@ from ..numerics import InputError, NewtonBisection
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
 from ._load_pieces import AbstractLoadPieces
+from ._spots import SpotFamilies
 
 # A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
 # the elastic comparators (GW, Persson), whose loads are flagged out of range there.
@@ -195,6 +196,11 @@ class AbstractJoint(eqx.Module):
         """Each regime's initial unloading stiffness from the solved `a_l` (every spot unloads
         elastically, one that flowed with the elastic stiffness of its contact area at the top), and
         the breakdown flag."""
+
+    @abc.abstractmethod
+    def spots(self, log_a_l, log_load) -> SpotFamilies:
+        """The spots at the solved `a_l`, one family per regime, each spot with its load and its
+        initial unloading stiffness (`unloading_stiffness` is their sum): for partial slip."""
 
 
 def _piece_residual(log_a_l, args):

@@ -18,6 +18,7 @@ from ..physics import AbstractDistribution, MajumdarBhushan, hertz_stiffness, ko
 from ..quantities import DimensionlessScene
 from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from ._load_pieces import GenericLoadPieces
+from ._spots import SpotFamilies
 
 
 class JZZ2010(AbstractLargestSpotModel):
@@ -100,3 +101,18 @@ class JZZ2010Joint(AbstractJoint):
         elastic = law.integral(*self._elastic_range(log_a_l))
         plastic = law.integral(self.log_a_min, jnp.minimum(self.log_a_c, log_a_l))
         return jnp.stack([elastic, plastic]), jnp.array(False)
+
+    def spots(self, log_a_l, log_load) -> SpotFamilies:
+        """The elastic spots (Eq. 5 load) above `a_c` and the plastic ones (`H a`) from `a_min` to
+        `a_c`, every one with Sneddon's unloading stiffness, as `unloading_stiffness` sums them."""
+        del log_load
+        n = size_distribution(self.D, log_a_l, self.log_density)
+        count = n * PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D))
+        elastic_lower, elastic_upper = self._elastic_range(log_a_l)
+        lower = jnp.stack([elastic_lower, self.log_a_min])
+        upper = jnp.stack([elastic_upper, jnp.maximum(jnp.minimum(self.log_a_c, log_a_l), self.log_a_min)])
+        rows = lambda a, b: PowerLaw(jnp.stack([a.log_coeff, b.log_coeff]), jnp.stack([a.exponent, b.exponent]))  # noqa: E731
+        plastic = PowerLaw(self.log_hardness, jnp.ones_like(self.D))
+        return SpotFamilies.without_interaction(
+            rows(count, count), rows(self.elastic_law, plastic), rows(*(hertz_stiffness(self.D),) * 2), lower, upper
+        )

@@ -30,6 +30,7 @@ from ..physics import (
     FamilyDerivative,
     MajumdarBhushan,
     PaperInteraction,
+    interaction_ratio,
     interference,
     kogut_etsion_laws,
     regime_edges,
@@ -38,6 +39,7 @@ from ..physics import (
 from ..quantities import DimensionlessScene
 from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
 from ._load_pieces import PowerLawLoadPieces
+from ._spots import SpotFamilies
 
 REGIMES = ("e", "ep1", "ep2", "p")
 # Fully plastic asperities carry load but add no stiffness on loading (Sec. 4.2). Plain Python values,
@@ -135,8 +137,20 @@ class Xia2024Joint(AbstractJoint):
         elastically, with the elastic regime's spot law at its contact area at the top (Sneddon's
         `2E√(a/π)` with `Sneddon()`, the paper's family factor times it with `FamilyDerivative()`),
         so that an all-elastic joint unloads as it loads; divided by `1 ± r` as on loading."""
-        elastic = jax.tree.map(lambda x: jnp.broadcast_to(x[0], x.shape), self.spot_law)
-        return self._summed(elastic, (1.0,) * len(REGIMES), log_a_l, log_load)
+        return self._summed(self._elastic_law(), (1.0,) * len(REGIMES), log_a_l, log_load)
+
+    def spots(self, log_a_l, log_load) -> SpotFamilies:
+        """Every regime's spots with the load law of the regime and the unloading law of
+        `unloading_stiffness`; `r` as on loading (Eq. 22)."""
+        lower, upper = self.intervals(log_a_l)
+        count = self.distribution(log_a_l) * PowerLaw(jnp.zeros_like(self.D), jnp.ones_like(self.D))
+        rows = PowerLaw(*(jnp.broadcast_to(x, lower.shape) for x in (count.log_coeff, count.exponent)))
+        ratio = interaction_ratio(self.load_laws, self.interference_law, log_load)
+        return SpotFamilies(rows, self.load_laws, self._elastic_law(), ratio, self.interaction, lower, upper)
+
+    def _elastic_law(self) -> PowerLaw:
+        """The elastic regime's spot law in every regime's row."""
+        return jax.tree.map(lambda x: jnp.broadcast_to(x[0], x.shape), self.spot_law)
 
     def _summed(self, law: PowerLaw, has_stiffness: tuple[float, ...], log_a_l, log_load):
         """`∫ k₀ n /(1 ± r) da` per regime for the spot law `k₀ = law`, times `has_stiffness` (the

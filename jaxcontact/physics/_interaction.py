@@ -63,6 +63,10 @@ class AbstractInteraction(eqx.Module):
         inside a range: the model is not valid at this load).
         """
 
+    @abc.abstractmethod
+    def spot_factor(self, ratio):
+        """`k/k₀` of one spot whose `r = σ'/ξ'` is `ratio`: `1/(1 ± r)`, or 1 without interaction."""
+
 
 class NoInteraction(AbstractInteraction):
     """`ω = ξ`: the no-interaction comparator of the paper's Fig. 6. No correction, and nothing of
@@ -73,6 +77,9 @@ class NoInteraction(AbstractInteraction):
     def corrections(self, density, load_laws, interference_law, log_load, lower, upper):
         del density, load_laws, interference_law, log_load, upper
         return [jnp.zeros_like(lower[i]) for i in range(lower.shape[0])], jnp.array(False)
+
+    def spot_factor(self, ratio):
+        return jnp.ones_like(ratio)
 
 
 class PaperInteraction(AbstractInteraction):
@@ -96,6 +103,9 @@ class PaperInteraction(AbstractInteraction):
         ratio = PowerLaw(jnp.where(breakdown, -200.0, ratio.log_coeff), ratio.exponent)
         return paper_correction(density, ratio, lower, upper, self.quadrature), breakdown
 
+    def spot_factor(self, ratio):
+        return 1.0 / (1.0 - ratio)
+
 
 class SeriesInteraction(AbstractInteraction):
     """`ω = ξ + σ`: settlement in series with the asperity, a softer joint (the paper's conclusion 3).
@@ -118,6 +128,9 @@ class SeriesInteraction(AbstractInteraction):
         ratio = interaction_ratio(load_laws, interference_law, log_load)
         part = series_correction(density, ratio, lower, upper, self.quadrature)
         return [part[i] for i in range(lower.shape[0])], jnp.array(False)
+
+    def spot_factor(self, ratio):
+        return 1.0 / (1.0 + ratio)
 
 
 def settlement(load_law: PowerLaw, log_load) -> PowerLaw:

@@ -1,0 +1,277 @@
+"""Partial slip and friction loops (`jc.tangential_cycle`): one spot's Cattaneo–Mindlin loop against
+the Mindlin–Deresiewicz closed form and a quadrature of its Masing branches; a joint of fully plastic
+spots against scipy's quadrature of the same spots; the limits (full stick, small-amplitude
+dissipation ∝ u₀³, macroslip at μF); derivatives against central differences; float32; bad input."""
+
+import functools
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import TABLE1, make_scene, refused_type
+from scipy import integrate
+
+import jaxcontact as jc
+from jaxcontact.numerics import x64
+from jaxcontact.physics._mindlin import backbone, loop_energy, masing_branches
+
+MU = 0.3
+# The D = 1.5 surface at H = 3 GPa: every spot fully plastic (P = H a), unloading with Sneddon's 2E√(a/π).
+PLASTIC = dict(TABLE1, D=1.5, G=1e-12, l_min=1e-6, H=3e9, area=1e-4)
+PRELOAD = 1e-6 * PLASTIC["E"] * PLASTIC["area"]
+AMPLITUDES = np.array([1e-9, 1e-8, 3e-8, 1e-7, 3e-7, 1e-6])  # m: all stuck → all sliding
+
+
+def mindlin_deresiewicz(x):
+    """`W/(μP u*)` of one sphere cycled to `x = u₀/u*` in its force form (Mindlin & Deresiewicz 1953;
+    Johnson 1985, Eq. 7.60, with Johnson's compliance written as u*): with `q = Q₀/μP`,
+    `(24/5)[1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})]`; `4x − 16/5` in gross slip."""
+    if x >= 1:
+        return 4 * x - 3.2
+    q = 1 - (1 - x) ** 1.5
+    return 4.8 * (1 - (1 - q) ** (5 / 3) - (5 * q / 6) * (1 + (1 - q) ** (2 / 3)))
+
+
+@pytest.mark.parametrize("x", [0.05, 0.3, 0.7, 0.95, 1.0, 2.5])
+def test_one_spots_loop_energy_is_mindlin_deresiewicz(x):
+    np.testing.assert_allclose(float(loop_energy(x)), mindlin_deresiewicz(x), rtol=1e-12)
+
+
+@pytest.mark.parametrize("x", [0.3, 0.95, 2.5])
+def test_one_spots_loop_energy_is_the_area_between_its_masing_branches(x):
+    def gap(u):
+        rising, falling = masing_branches(u, x, backbone)
+        return float(rising - falling)
+
+    area = integrate.quad(gap, -x, x, epsabs=0, epsrel=1e-12, limit=200)[0]
+    np.testing.assert_allclose(float(loop_energy(x)), area, rtol=1e-9)
+
+
+def test_one_spots_small_amplitude_loop_keeps_its_precision():
+    """x³/2 (1 + x/4 + ...): the series, where the expanded closed form loses every digit."""
+    x = 1e-6
+    np.testing.assert_allclose(float(loop_energy(x)), x**3 / 2 * (1 + x / 4), rtol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def plastic():
+    scene = make_scene(**PLASTIC, interaction="none", spot_stiffness="sneddon")
+    return scene, jc.tangential_cycle(scene, PRELOAD, jnp.asarray(AMPLITUDES), MU)
+
+
+def _scipy_cycle(scene, u0):
+    """`(Q₀, W)` of the fully plastic joint by scipy: each spot P = H a, k_t = 2(1−ν)/(2−ν) 2E√(a/π),
+    u* = 3μP/(2k_t) (∝ √a, so the spots below a_s slide), over the Majumdar–Bhushan distribution
+    on (l_min², a_l], split at a_s; W by the Mindlin–Deresiewicz force form."""
+    D, E, H, nu = (PLASTIC[k] for k in ("D", "E", "H", "nu"))
+    a_l = float(jc.solve(scene, PRELOAD).a_l)
+    kt_coefficient = 2 * (1 - nu) / (2 - nu) * 2 * E / math.sqrt(math.pi)
+
+    def spot(t):
+        a = math.exp(t)
+        load = H * a
+        slip = 1.5 * MU * load / (kt_coefficient * math.sqrt(a))
+        count = (D / 2) * a_l ** (D / 2) * a ** (-(D + 2) / 2) * a  # per unit of t = ln a
+        return count, load, slip
+
+    def force(t):
+        count, load, slip = spot(t)
+        return count * MU * load * (1 - (1 - min(u0 / slip, 1)) ** 1.5)
+
+    def energy(t):
+        count, load, slip = spot(t)
+        return count * MU * load * slip * mindlin_deresiewicz(u0 / slip)
+
+    lower, upper = 2 * math.log(PLASTIC["l_min"]), math.log(a_l)
+    boundary = 2 * math.log(u0 * kt_coefficient / (1.5 * MU * H))
+    points = [boundary] if lower < boundary < upper else None
+    quad = lambda f: integrate.quad(f, lower, upper, points=points, epsabs=0, epsrel=1e-12, limit=400)[0]  # noqa: E731
+    return quad(force), quad(energy)
+
+
+@pytest.fixture(scope="module")
+def scipy_cycle(plastic):
+    scene, _ = plastic
+    return np.array([_scipy_cycle(scene, u0) for u0 in AMPLITUDES])
+
+
+def test_the_loops_tip_is_scipys(plastic, scipy_cycle):
+    _, cycle = plastic
+    np.testing.assert_allclose(np.asarray(cycle.force), scipy_cycle[:, 0], rtol=1e-10)
+
+
+def test_the_dissipation_is_scipys(plastic, scipy_cycle):
+    _, cycle = plastic
+    np.testing.assert_allclose(np.asarray(cycle.dissipation), scipy_cycle[:, 1], rtol=1e-9)
+
+
+def test_at_the_smallest_amplitude_no_spot_slides(plastic):
+    _, cycle = plastic
+    assert float(cycle.sliding_share[0]) == 0.0
+
+
+def test_at_the_largest_amplitude_every_spot_slides(plastic):
+    _, cycle = plastic
+    np.testing.assert_allclose(float(cycle.sliding_share[-1]), 1.0, rtol=1e-12)
+
+
+def test_the_sliding_share_grows_with_the_amplitude(plastic):
+    _, cycle = plastic
+    assert np.all(np.diff(np.asarray(cycle.sliding_share)) > 0)
+
+
+def test_in_macroslip_the_tip_is_mu_F(plastic):
+    _, cycle = plastic
+    np.testing.assert_allclose(float(cycle.force[-1]), MU * PRELOAD, rtol=1e-10)
+
+
+def test_the_macroslip_force_is_mu_F(plastic):
+    _, cycle = plastic
+    np.testing.assert_allclose(float(cycle.macroslip_force), MU * PRELOAD, rtol=1e-15)
+
+
+def test_the_stick_stiffness_is_the_tangential_stiffness(plastic):
+    scene, cycle = plastic
+    np.testing.assert_allclose(
+        float(cycle.stick_stiffness), float(jc.tangential_stiffness(scene, PRELOAD).stiffness), rtol=1e-12
+    )
+
+
+@pytest.fixture(scope="module")
+def small_amplitudes(plastic):
+    scene, _ = plastic
+    return jc.tangential_cycle(scene, PRELOAD, jnp.array([1e-15, 2e-15]), MU)
+
+
+def test_at_small_amplitude_the_secant_is_the_stick_stiffness(small_amplitudes):
+    np.testing.assert_allclose(
+        float(small_amplitudes.secant_stiffness[0]), float(small_amplitudes.stick_stiffness), rtol=1e-6
+    )
+
+
+def test_at_small_amplitude_the_dissipation_grows_as_the_cube(small_amplitudes):
+    np.testing.assert_allclose(float(small_amplitudes.dissipation[1] / small_amplitudes.dissipation[0]), 8.0, rtol=1e-6)
+
+
+def test_the_damping_ratio_tends_to_coulombs_two_over_pi(plastic):
+    """In gross slip W → 4μF u₀: ζ = W/(2π Q₀ u₀) → 2/π."""
+    scene, _ = plastic
+    cycle = jc.tangential_cycle(scene, PRELOAD, jnp.array([1e-2, 2e-2]), MU)  # the shape of `small_amplitudes`
+    np.testing.assert_allclose(float(cycle.damping_ratio[0]), 2 / math.pi, rtol=1e-4)
+
+
+@pytest.fixture(scope="module")
+def seed_cycle():
+    """The paper's Table 1 joint with its interaction, in two node counts."""
+    scene = make_scene(**TABLE1)
+    amplitudes = jnp.geomspace(1e-11, 1e-6, 6)
+    return scene, amplitudes, jc.tangential_cycle(scene, 22.0, amplitudes, MU)
+
+
+def test_the_seed_models_loop_does_not_depend_on_the_node_count(seed_cycle):
+    scene, amplitudes, cycle = seed_cycle
+    finer = jc.tangential_cycle(scene, 22.0, amplitudes, MU, nodes=64)
+    np.testing.assert_allclose(np.asarray(cycle.dissipation), np.asarray(finer.dissipation), rtol=1e-10)
+
+
+def test_the_seed_models_secant_falls_from_its_tangential_stiffness_to_mu_F_over_u(seed_cycle):
+    scene, amplitudes, cycle = seed_cycle
+    secant = np.asarray(cycle.secant_stiffness)
+    assert np.all(np.diff(secant) < 0)
+    assert secant[0] < float(jc.tangential_stiffness(scene, 22.0).stiffness)
+
+
+@functools.cache
+def _outputs():
+    """ln W and ln Q₀ of the seed model (interaction 'paper') at one amplitude, as a function of
+    θ = (D, ln μ, ln F, ln u₀): one program for every derivative and difference."""
+    base = make_scene(**TABLE1)
+
+    @jax.jit
+    def outputs(theta):
+        D, log_mu, log_F, log_u = theta
+        scene = eqx.tree_at(lambda s: s.surface.D, base, D)
+        cycle = jc.tangential_cycle(scene, 22.0 * jnp.exp(log_F), jnp.exp(log_u)[None], jnp.exp(log_mu))
+        return jnp.stack([jnp.log(cycle.dissipation[0]), jnp.log(cycle.force[0])])
+
+    return outputs, jax.jit(jax.jacfwd(outputs))
+
+
+@pytest.mark.parametrize("i", range(4), ids=["D", "mu", "preload", "amplitude"])
+def test_the_derivatives_match_central_differences(i):
+    """At u₀ = 30 nm, where some of the preload slides."""
+    outputs, jacobian = _outputs()
+    theta = jnp.array([TABLE1["D"], math.log(MU), 0.0, math.log(3e-8)])
+    step = 1e-6
+    central = (outputs(theta.at[i].add(step)) - outputs(theta.at[i].add(-step))) / (2 * step)
+    np.testing.assert_allclose(jacobian(theta)[:, i], central, rtol=1e-6, atol=1e-9)
+
+
+def test_float32_gives_the_float64_loop_within_1e_4(seed_cycle):
+    _, amplitudes, double = seed_cycle
+    with x64(False):
+        scene = make_scene(**TABLE1)
+        single = jc.tangential_cycle(scene, np.float32(22.0), jnp.asarray(amplitudes, jnp.float32), np.float32(MU))
+        assert single.dissipation.dtype == jnp.float32
+    np.testing.assert_allclose(np.asarray(single.dissipation), np.asarray(double.dissipation), rtol=1e-4)
+
+
+def test_vmap_over_preloads_is_a_loop_over_them(seed_cycle):
+    scene, amplitudes, _ = seed_cycle
+    preloads = jnp.array([2.2, 22.0])
+    batched = jax.vmap(lambda F: jc.tangential_cycle(scene, F, amplitudes, MU).force)(preloads)
+    one = jc.tangential_cycle(scene, 2.2, amplitudes, MU).force
+    np.testing.assert_allclose(np.asarray(batched[0]), np.asarray(one), rtol=1e-12)
+
+
+def test_a_traced_bad_amplitude_is_flagged_and_the_others_keep_finite_gradients(seed_cycle):
+    scene, _, _ = seed_cycle
+
+    def total(log_u):
+        cycle = jc.tangential_cycle(scene, 22.0, jnp.exp(log_u), MU)
+        return jnp.nansum(cycle.dissipation), cycle.status
+
+    log_u = jnp.log(jnp.array([1e-8, jnp.nan, 1e-7]))
+    (_, status), gradient = jax.value_and_grad(total, has_aux=True)(log_u)
+    assert np.asarray(status).tolist() == [0, jc.Status.INVALID_LOAD, 0]
+    assert np.all(np.isfinite(np.asarray(gradient)[[0, 2]]))
+
+
+def test_the_paper_interactions_breakdown_is_flagged():
+    """On unloading the 'paper' interaction breaks down from F* ≈ 3e-5 (docs/in-service.md)."""
+    scene = make_scene(**TABLE1)
+    load = 1e-4 * TABLE1["E"] * TABLE1["area"]
+    cycle = jc.tangential_cycle(scene, load, jnp.geomspace(1e-11, 1e-6, 6), MU)  # the shape of `seed_cycle`
+    assert int(cycle.status[0]) == jc.Status.INTERACTION_BREAKDOWN
+
+
+@pytest.mark.parametrize(
+    "kw, message",
+    [
+        (dict(mu=0.0), r"mu .*\(0, inf\)"),
+        (dict(mu=float("nan")), r"mu"),
+        (dict(preload=-1.0), r"preload .*\(0, inf\)"),
+        (dict(amplitudes=np.array([1e-8, -1e-8])), r"amplitudes .*\(0, inf\)"),
+        (dict(nodes=4), r"nodes = 4 must be an integer in \[8, 256\]"),
+    ],
+)
+def test_bad_input_is_refused_naming_the_parameter(kw, message):
+    args = dict(preload=22.0, amplitudes=np.array([1e-8]), mu=MU) | kw
+    nodes = args.pop("nodes", 16)
+    with pytest.raises(ValueError, match=message):
+        jc.tangential_cycle(jc.table1_scene(), args["preload"], args["amplitudes"], args["mu"], nodes=nodes)
+
+
+def test_amplitudes_of_more_than_one_axis_are_refused():
+    with refused_type("amplitudes", r"amplitudes has shape \(2, 2\)"):
+        jc.tangential_cycle(jc.table1_scene(), 22.0, np.ones((2, 2)), MU)
+
+
+@pytest.mark.parametrize("model", ["gw", "persson"])
+def test_a_model_without_single_spots_is_refused_by_name(model):
+    scene = make_scene(**TABLE1, model=model)
+    with pytest.raises(ValueError, match=f"model = '{model}'"):
+        jc.tangential_cycle(scene, 22.0, np.array([1e-8]), MU)
