@@ -4,7 +4,8 @@ Against the plain scipy implementation (`scipy_baseline`: quad + brentq, what a 
 otherwise write): a 200-load curve, the gradient of a fitting loss (against finite differences
 of the baseline), and a full D/G fit (against `scipy.optimize.least_squares` on the baseline).
 Also: compile time, throughput over 1e5 loads with and without interaction, what each effect
-costs, an interface law of 1000 pressures per analytic model, a load–unload path of the capped BEM,
+costs, an interface law of 1000 pressures per analytic model, a tangential cycle of 50 amplitudes, a load–unload
+path of the capped BEM,
 and the persistent compilation cache of the CLI. Times are after compilation, best of
 several repeats; nothing here is asserted (timings are not tests).
 """
@@ -208,6 +209,16 @@ def interface(scene: Scene, pressures: int = 1000) -> dict:
     return out
 
 
+def tangential_cycle(scene: Scene, amplitudes: int = 50) -> dict:
+    """`jc.tangential_cycle` of the scene at F* = 1e-6 over `amplitudes` displacement amplitudes
+    (0.1 pm to 10 µm), μ = 0.3, as users call it: median and best of 15 calls after compilation (s)."""
+    from ..core import tangential_cycle as cycle
+
+    preload = 1e-6 * float(Scales.of(scene).load)
+    u = jnp.geomspace(1e-13, 1e-5, amplitudes)
+    return _called(lambda: cycle(scene, preload, u, 0.3).dissipation)
+
+
 def bem_path(scene: Scene, grid: int = 256) -> dict:
     """`bem.solve_path` of a 10-point load–unload path (five loads up to F* = 3e-3, five down) on a
     capped rough map (D = 1.5, rms slope ~0.15, H = 0.015 E*, `grid`²), as users call it, against
@@ -239,6 +250,7 @@ def run_all(scene: Scene, progress=None) -> dict:
         ("throughput", throughput),
         ("effects", effects_table),
         ("interface", interface),
+        ("tangential_cycle", tangential_cycle),
         ("bem_path", bem_path),
         ("compilation_cache", lambda s: compilation_cache()),
     ]
