@@ -5,6 +5,7 @@ dissipation ∝ u₀³, macroslip at μF); derivatives against central differenc
 
 import functools
 import math
+import pathlib
 
 import equinox as eqx
 import jax
@@ -275,3 +276,62 @@ def test_a_model_without_single_spots_is_refused_by_name(model):
     scene = make_scene(**TABLE1, model=model)
     with pytest.raises(ValueError, match=f"model = '{model}'"):
         jc.tangential_cycle(scene, 22.0, np.array([1e-8]), MU)
+
+
+DEFAULT_SCENE = pathlib.Path(jc.__file__).parent / "scenes" / "table1_grinding.toml"
+CLI_AMPLITUDES = ["--amplitudes", "1e-9", "1e-7", "--points", "3"]
+
+
+@pytest.fixture(scope="module")
+def cli_cycle(tmp_path_factory):
+    """`jaxcontact cycle` on the embedded Table 1 scene, and the rows of its CSV."""
+    import csv
+
+    from jaxcontact.cli import main
+
+    out = tmp_path_factory.mktemp("cycle")
+    assert (
+        main(["cycle", "--mu", "0.3", "--preload", "22", *CLI_AMPLITUDES, "--out", str(out), "--format", "json"]) == 0
+    )
+    with open(out / "cycle.csv") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return out, rows
+
+
+def test_the_cycle_command_writes_the_libraries_loop_tips(cli_cycle):
+    _, rows = cli_cycle
+    expected = jc.tangential_cycle(jc.table1_scene(), 22.0, jnp.geomspace(1e-9, 1e-7, 3), 0.3).force
+    np.testing.assert_allclose([float(r["Q0_N"]) for r in rows], np.asarray(expected), rtol=1e-12)
+
+
+def test_the_cycle_command_draws_its_loops(cli_cycle):
+    out, _ = cli_cycle
+    assert (out / "cycle.png").stat().st_size > 10_000
+
+
+def test_the_cycle_command_reads_friction_from_the_scene_file(tmp_path, capsys):
+    import json
+
+    from jaxcontact.cli import main
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(DEFAULT_SCENE.read_text() + "\n[friction]\nmu = 0.2\npreload = 22.0\n")
+    assert main(["cycle", str(scene), *CLI_AMPLITUDES, "--out", str(tmp_path), "--format", "json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert (payload["mu"], payload["macroslip_force_N"]) == (0.2, 0.2 * 22.0)
+
+
+def test_the_cycle_command_without_a_friction_coefficient_says_so(tmp_path, capsys):
+    from jaxcontact.cli import main
+
+    assert main(["cycle", "--out", str(tmp_path)]) == 2
+    assert "no friction coefficient: give --mu MU or [friction] mu in the scene file" in capsys.readouterr().err
+
+
+def test_a_scene_files_bad_friction_coefficient_is_refused_by_name(tmp_path, capsys):
+    from jaxcontact.cli import main
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(DEFAULT_SCENE.read_text() + "\n[friction]\nmu = -0.2\n")
+    assert main(["cycle", str(scene), "--out", str(tmp_path)]) == 2
+    assert "friction.mu = -0.2 must be > 0" in capsys.readouterr().err

@@ -19,6 +19,7 @@ from ..numerics._validate import InputError, MissingExtraError, command_line_spe
 from ._commands import cmd_approach, cmd_dynamics, cmd_run
 from ._compare_commands import cmd_compare
 from ._compare_table import DEFAULT_COMPARE_SCENE, add_compare_options
+from ._cycle_command import add_cycle_options, cmd_cycle
 from ._fit_commands import cmd_fit
 from ._interface_command import add_interface_options, cmd_interface
 from ._output import CommandError
@@ -30,7 +31,9 @@ from ._topography_run import add_run_topography_options
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # EX_SOFTWARE
 # The commands that draw figures with matplotlib.
-DRAWING = frozenset({"run", "surface", "approach", "interface", "dynamics", "compare", "figures", "fit", "accuracy"})
+DRAWING = frozenset(
+    {"run", "surface", "approach", "interface", "cycle", "dynamics", "compare", "figures", "fit", "accuracy"}
+)
 # The commands that time compilations: run without the persistent cache, whose reads they would
 # time instead (JAX decides once per process whether to use it, at the first compilation).
 TIMING = frozenset({"bench"})
@@ -116,6 +119,14 @@ def build_parser() -> argparse.ArgumentParser:
         "jaxcontact-out/interface",
     )
     add_interface_options(p)
+    p = scene_command(
+        "cycle",
+        "the joint's friction loops about a preload (partial slip, Cattaneo–Mindlin spots, Masing's rules): "
+        "loop tip, dissipation, secant stiffness and damping ratio against amplitude, as CSV and a plot",
+        cmd_cycle,
+        "jaxcontact-out/cycle",
+    )
+    add_cycle_options(p)
     scene_command(
         "dynamics",
         "a driven mass on the joint: time history, frequency response, resonance against "

@@ -210,3 +210,29 @@ def plot_interface(pressure, closure_m, stiffness, reference, path: pathlib.Path
     for ax in (left, right):
         ax.grid(True, which="both", alpha=0.3)
     return save_figure(fig, path)
+
+
+def plot_cycle(amplitudes, force, damping, fractions, backbone, slip_force, path: pathlib.Path, loop_amplitudes) -> str:
+    """Friction loops Q(u) at `loop_amplitudes` (from the `backbone` B at s = (u₀ ± u)/2, Masing's
+    rule; one row of `backbone` per loop, at s = u₀ × `fractions`, increasing to 1), and the loop's tip
+    Q₀/μF and damping ratio against amplitude."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, (left, right) = subplots(1, 2, figsize=(10, 4.2))
+    for u0, rows in zip(loop_amplitudes, backbone):
+        if not np.all(np.isfinite(rows)):
+            continue
+        s = u0 * fractions
+        top = rows[-1]
+        u = np.concatenate([[-u0], 2 * s - u0, [u0], u0 - 2 * s])
+        q = np.concatenate([[-top], -top + 2 * rows, [top], top - 2 * rows])
+        left.plot(1e9 * u, q / slip_force, label=f"u0 = {1e9 * u0:.3g} nm")
+    left.set(xlabel="tangential displacement u (nm)", ylabel="Q / μF", title="Friction loops (Masing)")
+    left.legend(fontsize=8)
+    ok = np.isfinite(force)
+    right.semilogx(amplitudes[ok], force[ok] / slip_force, "o-", ms=3, label="loop tip Q0 / μF")
+    right.semilogx(amplitudes[ok], damping[ok], "s-", ms=3, label="damping ratio ζ")
+    right.set(xlabel="amplitude u0 (m)", title="Tip and damping against amplitude")
+    right.legend(fontsize=8)
+    for ax in (left, right):
+        ax.grid(True, which="both", alpha=0.3)
+    return save_figure(fig, path)

@@ -13,6 +13,7 @@ title = "..."
             stiffness ("loading" | "unloading" | "tangential": which K `solve` returns)
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
 [approach]  reference_load (N): ask for the load–approach curve relative to this preload
+[friction]  mu (coefficient), preload (N), amplitudes = [lo, hi] (m): the friction loops of `jaxcontact cycle`
 [dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
             frequency (Hz; default the linear resonance), sweep = [lo, hi] (× resonance), sweep_count
 ```
@@ -66,6 +67,7 @@ _SCHEMA = {
     },
     "loads": {"unit": str, "values": list, "range": list, "count": int},
     "approach": {"reference_load": float},
+    "friction": {"mu": float, "preload": float, "amplitudes": list},
     "dynamics": {
         "mass": float,
         "preload": float,
@@ -101,6 +103,16 @@ class DynamicsSpec:
 
 
 @dataclasses.dataclass(frozen=True)
+class FrictionSpec:
+    """The `[friction]` table: the friction coefficient and, optionally, the preload (N) and the
+    range of tangential displacement amplitudes (m) of `jaxcontact cycle`."""
+
+    mu: float
+    preload: float | None = None
+    amplitudes: tuple[float, float] | None = None
+
+
+@dataclasses.dataclass(frozen=True)
 class SceneFile:
     """A scene as read from TOML: the `Scene`, the loads (N), a title, the optional effects
     `approach_reference` (N, the preload of the load–approach curve) and `dynamics`, and the
@@ -114,6 +126,7 @@ class SceneFile:
     approach_reference: float | None = None
     dynamics: DynamicsSpec | None = None
     outputs: Outputs = Outputs()
+    friction: FrictionSpec | None = None
 
     @property
     def load_star(self) -> np.ndarray:
@@ -231,7 +244,26 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
         approach_reference=None if reference is None else float(reference),
         dynamics=_dynamics(data["dynamics"]) if "dynamics" in data else None,
         outputs=outputs,
+        friction=_friction(data["friction"]) if "friction" in data else None,
     )
+
+
+def _friction(spec: dict) -> FrictionSpec:
+    mu = spec.get("mu")
+    if mu is None:
+        raise SceneFileError("missing key friction.mu (the friction coefficient)")
+    if not (math.isfinite(mu) and mu > 0):
+        raise SceneFileError(f"friction.mu = {mu!r} must be > 0")
+    preload = spec.get("preload")
+    if preload is not None and not (math.isfinite(preload) and preload > 0):
+        raise SceneFileError(f"friction.preload = {preload!r} must be > 0 N")
+    amplitudes = spec.get("amplitudes")
+    if amplitudes is not None:
+        ok = len(amplitudes) == 2 and all(isinstance(x, (int, float)) and math.isfinite(x) for x in amplitudes)
+        if not ok or not 0 < amplitudes[0] < amplitudes[1]:
+            raise SceneFileError(f"friction.amplitudes = {amplitudes!r} must be [low, high] (m) with 0 < low < high")
+        amplitudes = (float(amplitudes[0]), float(amplitudes[1]))
+    return FrictionSpec(float(mu), None if preload is None else float(preload), amplitudes)
 
 
 def _dynamics(spec: dict) -> DynamicsSpec:
