@@ -5,10 +5,7 @@ common to every spot, cycled between ±u₀. Each spot of load P and full-stick 
 `k_t` (Mindlin's `8G*r`, `2(1 − ν)/(2 − ν)` times its unloading stiffness, as
 `tangential_stiffness` sums them) follows Cattaneo–Mindlin up to its slip displacement
 `u* = 3μP/(2k_t)` and Masing's rules on the cycle (`physics._mindlin`). The joint's backbone,
-loop and dissipation are the sums over its spots, the integrals over each family of
-`model.joint(s).spots(...)`. In every family `u*` grows with the spot's area, so the spots below one
-area slide and the rest stick: each family is split there (found by bisection) and each part
-integrated by Gauss–Legendre, the sticking part in a variable that makes its integrand smooth.
+loop and dissipation are the sums over its spots (`_spot_sums`).
 """
 
 from __future__ import annotations
@@ -16,20 +13,16 @@ from __future__ import annotations
 import math
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..models import AbstractLargestSpotModel
-from ..numerics._quadrature import integrate_log_area
 from ..numerics._validate import InputError, check_range
 from ..physics import mindlin_ratio
-from ..physics._mindlin import backbone, loop_energy, slip_displacement
 from ..quantities import Scales, Status, nondimensionalise
 from ._loadcontrol import _flagged, within_domain
 from ._scene import Scene
-
-_BISECTIONS = 60
+from ._spot_sums import spot_sums
 
 
 class TangentialCycle(eqx.Module):
@@ -98,22 +91,6 @@ def tangential_cycle(
     return _cycle(scene, *arrays, nodes)
 
 
-def _split(families, log_slip_at, log_amplitude):
-    """The `t` in each family's range where `u*(t) = u₀` (clipped to the range): below it the spots
-    slide. Bisection on the increasing `ln u*(t)`; held, since the integrands agree there."""
-
-    def step(_, bounds):
-        low, high = bounds
-        mid = 0.5 * (low + high)
-        below = log_slip_at(mid) < log_amplitude
-        return jnp.where(below, mid, low), jnp.where(below, high, mid)
-
-    shape = jnp.broadcast_shapes(log_amplitude.shape, families.lower.shape)
-    start = (jnp.broadcast_to(families.lower, shape), jnp.broadcast_to(families.upper, shape))
-    low, high = jax.lax.fori_loop(0, _BISECTIONS, step, start)
-    return jax.lax.stop_gradient(0.5 * (low + high))
-
-
 @eqx.filter_jit
 def _cycle(scene: Scene, preload, amplitudes, mu, nodes: int) -> TangentialCycle:
     guarded, in_domain = within_domain(scene)
@@ -133,46 +110,12 @@ def _cycle(scene: Scene, preload, amplitudes, mu, nodes: int) -> TangentialCycle
     usable = jnp.isfinite(amplitudes) & (amplitudes > 0)
     u0 = jnp.where(usable, amplitudes, scales.length * 1e-9) / scales.length  # in √A_a
 
-    def log_slip_at(t):  # t: (..., families, nodes or 1)
-        _, load, stiffness = families.at(t)
-        return jnp.log(slip_displacement(mu_, load, ratio * stiffness))
-
-    log_u0 = jnp.log(u0)[:, None]  # (amplitudes, families)
-    split = _split(families, lambda t: log_slip_at(t[..., None])[..., 0], log_u0)
-
-    def integrand(kind):
-        def g(t):
-            count, load, stiffness = families.at(t)
-            slip = slip_displacement(mu_, load, ratio * stiffness)
-            x = u0[:, None, None] / slip
-            per_spot = {"force": mu_ * load * backbone(x), "energy": mu_ * load * slip * loop_energy(x)}
-            per_spot["sliding"] = jnp.where(x >= 1.0, load, 0.0)
-            return count * per_spot[kind]
-
-        return g
-
-    lower = jnp.broadcast_to(families.lower, split.shape)
-    upper = jnp.broadcast_to(families.upper, split.shape)
-
-    def total(kind):
-        g = integrand(kind)
-        sliding_part = integrate_log_area(g, lower, split, nodes)
-        # The sticking spots' integrand goes as (t − t_s)^{3/2} from the slip boundary: in
-        # t = t_s + L v² it is smooth in v, and Gauss–Legendre converges exponentially again.
-        length = (upper - split)[..., None]
-        stuck = lambda v: g(split[..., None] + length * v * v) * 2.0 * length * v  # noqa: E731
-        sticking_part = integrate_log_area(stuck, jnp.zeros_like(split), jnp.ones_like(split), nodes)
-        return jnp.sum(sliding_part + sticking_part, axis=-1)
-
-    force, energy, sliding = total("force"), total("energy"), total("sliding")
-    # In each family u* grows with the area (checked on a grid): one slip boundary per family.
-    grid = jnp.linspace(0.0, 1.0, 2 * nodes + 1)
-    probe = families.lower[:, None] + (families.upper - families.lower)[:, None] * grid
-    monotone = jnp.all(jnp.diff(log_slip_at(probe), axis=-1) >= 0.0)
+    sums = spot_sums(families, u0, mu_ / ratio, nodes)
+    force, energy, sliding = mu_ * sums["force"], mu_ * sums["energy"], sums["sliding"]
 
     at_preload = jnp.where(breakdown, Status.INTERACTION_BREAKDOWN, point.status)
     at_preload = jnp.where(usable_load, at_preload, Status.INVALID_LOAD)
-    at_preload = jnp.where((at_preload == Status.OK) & ~monotone, Status.NOT_CONVERGED, at_preload)
+    at_preload = jnp.where((at_preload == Status.OK) & ~sums["monotone"], Status.NOT_CONVERGED, at_preload)
     at_preload = jnp.where(valid_mu, at_preload, Status.INVALID_PARAMETERS)
     status = jnp.where(usable, at_preload, Status.INVALID_LOAD).astype(jnp.int32)
     ok = status == Status.OK
