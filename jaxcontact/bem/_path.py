@@ -18,7 +18,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..numerics._validate import InputError, check_strategy
-from ..quantities import Branch, Status
+from ..quantities import Branch, Status, branches
 from ._checks import check_arguments, check_iteration, valid_problem
 from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, contact_at, stand_in_loads
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
@@ -48,16 +48,6 @@ class PathSolution(eqx.Module):
     iterations: Int[Array, " points"]
     residual_approach: Float[Array, ""]
     heights: Float[Array, "n n"]
-
-
-def branches(path: Float[Array, " points"]) -> Int[Array, " points"]:
-    """Each point's `Branch`: loading where its load is at least every earlier one, unloading where
-    it is below the last one, reloading otherwise (above the last, below the largest earlier one)."""
-    previous = jnp.concatenate([path[:1], path[:-1]])
-    peak = jnp.concatenate([path[:1], jax.lax.cummax(path)[:-1]])
-    return jnp.select([path >= peak, path < previous], [Branch.LOADING, Branch.UNLOADING], Branch.RELOADING).astype(
-        jnp.int32
-    )
 
 
 def solve_path(

@@ -1,12 +1,11 @@
 """Sums over a joint's spots of a law in `x = u/u*(a)`, each spot's `u*` its own (docs/in-service.md).
 
-A spot of load P and normal unloading stiffness k recovers elastically over `e = 3P/(2k)` (Hertz
-about its state at the top: its tangent there is k) and, displaced tangentially, slides at
-`u* = μ e / ratio` with `ratio = k_t/k` (Cattaneo–Mindlin, `physics._mindlin`). Both are
-`u* = factor · e`. In each family of `model.joint(s).spots(...)` e grows with the spot's area
-(checked: `monotone`), so at a displacement u the spots below one area have `x ≥ 1` and the rest
-`x < 1`: each family is split there (by bisection; held, since the integrands agree there) and both
-parts integrated by Gauss–Legendre, the part with `x < 1` in `t = t_s + L v²`, which makes its
+A spot of load P and normal unloading stiffness k, displaced tangentially, slides at
+`u* = (μ/ratio)·3P/(2k)` with `ratio = k_t/k` (Cattaneo–Mindlin, `physics._mindlin`): `u* = factor ·
+3P/(2k)`. In each family of `model.joint(s).spots(...)` u* grows with the spot's area (checked:
+`monotone`), so at a displacement u the spots below one area have `x ≥ 1` and the rest `x < 1`:
+each family is split there (by bisection; held, since the integrands agree there) and both parts
+integrated by Gauss–Legendre, the part with `x < 1` in `t = t_s + L v²`, which makes its
 `(t − t_s)^{3/2}` edge smooth.
 """
 
@@ -17,7 +16,7 @@ import jax.numpy as jnp
 
 from ..models import SpotFamilies
 from ..numerics._quadrature import integrate_log_area
-from ..physics._mindlin import backbone, loop_energy
+from ..physics._mindlin import backbone, loop_energy, slip_displacement
 
 _BISECTIONS = 60
 
@@ -39,7 +38,7 @@ def _split(families: SpotFamilies, log_slip_at, log_u):
 
 
 def spot_sums(families: SpotFamilies, u, factor, nodes: int) -> dict:
-    """Over the spots (dimensionless), at each displacement of the 1-D `u`, with `u* = factor · e`:
+    """Over the spots (dimensionless), at each displacement of the 1-D `u`, with `u* = factor · 3P/(2k)`:
 
     - `"force"`: `Σ P·B(u/u*)`, B the Cattaneo–Mindlin backbone `1 − (1 − x)^{3/2}` (1 beyond);
     - `"energy"`: `Σ P u* W(u/u*)`, W the Mindlin–Deresiewicz loop energy of one spot;
@@ -50,7 +49,7 @@ def spot_sums(families: SpotFamilies, u, factor, nodes: int) -> dict:
 
     def log_slip_at(t):
         _, load, stiffness = families.at(t)
-        return jnp.log(1.5 * factor * load / stiffness)
+        return jnp.log(slip_displacement(factor, load, stiffness))
 
     log_u = jnp.log(u)[:, None]
     split = _split(families, lambda t: log_slip_at(t[..., None])[..., 0], log_u)
@@ -60,7 +59,7 @@ def spot_sums(families: SpotFamilies, u, factor, nodes: int) -> dict:
     def integrand(kind):
         def g(t):
             count, load, stiffness = families.at(t)
-            slip = 1.5 * factor * load / stiffness
+            slip = slip_displacement(factor, load, stiffness)
             x = u[:, None, None] / slip
             if kind == "force":
                 value = load * backbone(x)

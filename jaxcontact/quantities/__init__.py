@@ -6,10 +6,11 @@ from ._domain import PARAMETERS, ParameterSpec, implausible
 from ._pair import contact_modulus, tangential_contact_modulus
 from ._parameters import Material, Surface
 from ._scales import DimensionlessScene, Scales, nondimensionalise
-from ._status import Branch, Status, StatusError, status_message
+from ._status import Branch, Status, StatusError, branches, status_message
 
 __all__ = [
     "Branch",
+    "branches",
     "DimensionlessScene",
     "implausible",
     "Material",

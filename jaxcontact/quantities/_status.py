@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import enum
 
+import jax
+import jax.numpy as jnp
 import numpy as np
-from jaxtyping import ArrayLike, Int
+from jaxtyping import Array, ArrayLike, Float, Int
 
 
 class Status(enum.IntEnum):
@@ -77,3 +79,13 @@ class Branch(enum.IntEnum):
     LOADING = 0
     UNLOADING = 1
     RELOADING = 2
+
+
+def branches(path: Float[Array, " points"]) -> Int[Array, " points"]:
+    """Each point's `Branch`: loading where its load is at least every earlier one, unloading where
+    it is below the last one, reloading otherwise (above the last, below the largest earlier one)."""
+    previous = jnp.concatenate([path[:1], path[:-1]])
+    peak = jnp.concatenate([path[:1], jax.lax.cummax(path)[:-1]])
+    return jnp.select([path >= peak, path < previous], [Branch.LOADING, Branch.UNLOADING], Branch.RELOADING).astype(
+        jnp.int32
+    )
