@@ -73,6 +73,12 @@ class BEM(AbstractSweptModel):
         # Elastic: unloading retraces loading. A capped surface keeps its flattening (a load path).
         return not self.plastic
 
+    def spot_solver(self, s):
+        raise InputError(
+            f"model = {self.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model "
+            "that does (xia2024, jzz2010, measured-asperities)"
+        )
+
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 

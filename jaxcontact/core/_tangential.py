@@ -16,11 +16,10 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
-from ..models import AbstractLargestSpotModel
 from ..numerics._validate import InputError, check_range
 from ..physics import mindlin_ratio
 from ..quantities import Scales, Status, nondimensionalise
-from ._loadcontrol import _flagged, within_domain
+from ._loadcontrol import within_domain
 from ._scene import Scene
 from ._spot_sums import spot_sums
 
@@ -56,8 +55,8 @@ def tangential_cycle(
 
     **Arguments:**
 
-    - `scene`: the joint; its model must resolve single spots (`Xia2024`, `JZZ2010`, or any
-      `AbstractLargestSpotModel`).
+    - `scene`: the joint; its model must resolve single spots (`Xia2024`, `JZZ2010`, any
+      `AbstractLargestSpotModel`, `MeasuredAsperities`).
     - `preload`: the normal load F, N (a scalar; `jax.vmap` for several).
     - `amplitudes`: tangential displacement amplitudes u₀, m, a 1-D array.
     - `mu`: the friction coefficient μ > 0.
@@ -68,15 +67,11 @@ def tangential_cycle(
     the model cannot solve gives its status at every amplitude; a traced NaN or non-positive
     amplitude `INVALID_LOAD`, a traced μ ≤ 0 `INVALID_PARAMETERS`, the rest of the batch unaffected.
 
-    **Raises:** `ValueError` for a model without single spots (GW, Persson, the BEM), for concrete
+    **Raises:** `ValueError` for a model without single spots (Persson, the BEM; GW's are not built), for concrete
     non-positive or non-finite preload, amplitudes or μ, for amplitudes that are not 1-D, and for
     `nodes` outside 8–256.
     """
-    if not isinstance(scene.model, AbstractLargestSpotModel):
-        raise InputError(
-            f"model = {scene.model.name!r}: tangential_cycle integrates single spots, which the largest-spot "
-            "models have (xia2024, jzz2010); this one has none"
-        )
+    scene.model.spot_solver(nondimensionalise(within_domain(scene)[0]))  # a model without spots says so
     if isinstance(nodes, bool) or not isinstance(nodes, int) or not 8 <= nodes <= 256:
         raise InputError(f"nodes = {nodes!r} must be an integer in [8, 256]")
     if jnp.ndim(preload) != 0:
@@ -98,11 +93,9 @@ def _cycle(scene: Scene, preload, amplitudes, mu, nodes: int) -> TangentialCycle
     s = nondimensionalise(guarded)
     usable_load = jnp.isfinite(preload) & (preload > 0)
     load_star = jnp.where(usable_load, preload, scales.load * 1e-6) / scales.load
-    point = _flagged(guarded, in_domain, type(guarded.model).point_solver)(load_star)
-    log_load = jnp.log(load_star)
-    joint = guarded.model.joint(s)
-    unloading, breakdown = joint.unloading_stiffness(point.log_a_l, log_load)
-    families = joint.spots(point.log_a_l, log_load)
+    state = guarded.model.spot_solver(s)(load_star)
+    families, unloading, breakdown = state.spots, state.unloading, state.breakdown
+    point_status = jnp.where(in_domain, state.status, Status.INVALID_PARAMETERS)
 
     valid_mu = jnp.isfinite(mu) & (mu > 0)
     mu_ = jnp.where(valid_mu, mu, 1.0)
@@ -113,7 +106,7 @@ def _cycle(scene: Scene, preload, amplitudes, mu, nodes: int) -> TangentialCycle
     sums = spot_sums(families, u0, mu_ / ratio, nodes)
     force, energy, sliding = mu_ * sums["force"], mu_ * sums["energy"], sums["sliding"]
 
-    at_preload = jnp.where(breakdown, Status.INTERACTION_BREAKDOWN, point.status)
+    at_preload = jnp.where(breakdown, Status.INTERACTION_BREAKDOWN, point_status)
     at_preload = jnp.where(usable_load, at_preload, Status.INVALID_LOAD)
     at_preload = jnp.where((at_preload == Status.OK) & ~sums["monotone"], Status.NOT_CONVERGED, at_preload)
     at_preload = jnp.where(valid_mu, at_preload, Status.INVALID_PARAMETERS)
@@ -130,7 +123,7 @@ def _cycle(scene: Scene, preload, amplitudes, mu, nodes: int) -> TangentialCycle
         secant_stiffness=jnp.where(ok, q0 / amplitude_si, nan),
         damping_ratio=jnp.where(ok, w / (2 * math.pi * q0 * amplitude_si), nan),
         sliding_share=jnp.where(ok, sliding / load_star, nan),
-        stick_stiffness=jnp.where(at_preload == Status.OK, ratio * jnp.sum(unloading) * scales.stiffness, nan),
+        stick_stiffness=jnp.where(at_preload == Status.OK, ratio * unloading * scales.stiffness, nan),
         macroslip_force=jnp.where(usable_load & valid_mu, mu * preload, nan),
         status=status,
     )

@@ -2,24 +2,15 @@
 largest-spot models, the seed model (`Xia2024`) and its comparators, and the registry from names to
 objects. A new model is one file here plus one line in `_registry.py` (or `register_model`)."""
 
-from ._base import (
-    CLOSED_INTERFACE,
-    AbstractContactModel,
-    AbstractJoint,
-    AbstractLargestSpotModel,
-    AbstractSweptModel,
-    JointResponse,
-    PointResult,
-    curve_solver,
-    has_unloading_law,
-)
+from ._base import CLOSED_INTERFACE, AbstractContactModel, AbstractSweptModel, JointResponse, PointResult
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
+from ._largest_spot import AbstractJoint, AbstractLargestSpotModel, curve_solver, has_unloading_law
 from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
 from ._measured_asperities import MeasuredAsperities
 from ._persson import Persson
 from ._registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, SPOT_STIFFNESSES, build_model, register_model
-from ._spots import SpotFamilies
+from ._spots import SpotFamilies, SpotState, SummitCount
 from ._xia2024 import Xia2024
 
 __all__ = [
@@ -38,6 +29,8 @@ __all__ = [
     "INTERACTIONS",
     "JointResponse",
     "SpotFamilies",
+    "SpotState",
+    "SummitCount",
     "JZZ2010",
     "MeasuredAsperities",
     "MODELS",

@@ -23,7 +23,7 @@ from typing import ClassVar
 
 import jax.numpy as jnp
 
-from ..numerics import NewtonBisection, cached, check_instance
+from ..numerics import InputError, NewtonBisection, cached, check_instance
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
@@ -98,6 +98,12 @@ class GreenwoodWilliamson(AbstractContactModel):
 
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading
+
+    def spot_solver(self, s):
+        raise InputError(
+            f"model = {self.name!r}: the partial slip of its Gaussian summits is not built; MeasuredAsperities "
+            "with a tabulated Gaussian height PDF resolves the same summits one by one"
+        )
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))

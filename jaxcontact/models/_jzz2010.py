@@ -16,7 +16,8 @@ from jaxtyping import Array, Float
 from ..numerics import NewtonBisection, PowerLaw, check_instance
 from ..physics import AbstractDistribution, MajumdarBhushan, hertz_stiffness, kogut_etsion_laws, size_distribution
 from ..quantities import DimensionlessScene
-from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from ._base import JointResponse
+from ._largest_spot import AbstractJoint, AbstractLargestSpotModel
 from ._load_pieces import GenericLoadPieces
 from ._spots import SpotFamilies
 

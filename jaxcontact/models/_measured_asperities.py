@@ -19,16 +19,21 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
+import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, Float, Int
 
-from ..numerics import InputError, NewtonBisection, check_instance
+from ..numerics import InputError, NewtonBisection, PowerLaw, check_instance
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._spots import SpotFamilies, SpotState, SummitCount
 
 # The highest separation solved for, as a fraction of the heights' span below the top: loads lower
 # than the one it carries are out of range (near the top the load falls to zero as (z_max − d)^(7/2)).
 TOP_MARGIN = 1e-6
+# The smallest interference of the summits resolved one by one, as a fraction of the largest: a
+# summit's load goes as w^(3/2) and the count of the lowest ones as w, so those below carry ~1e-15.
+SPOT_FLOOR = 1e-6
 
 
 def _power(t, p):
@@ -114,22 +119,63 @@ class MeasuredAsperities(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
-        # Heights in units of the table's span from its lowest point (u in [0, 1]): the root finder's
-        # tolerance is absolute in u. Then J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u.
-        length = jnp.exp(s.log_length)  # √A_a, m: the statistics' lengths in the scene's units
+        solve = self._separation_solver(s)
+
+        def one_point(F_star) -> PointResult:
+            state = solve(F_star)
+            response = JointResponse(state.load[None], state.stiffness[None], state.area, jnp.array(False))
+            return PointResult(jnp.full_like(state.separation, jnp.nan), response, state.status)
+
+        return one_point
+
+    def spot_solver(self, s):
+        """The separation solve, and the summits in contact one interval of the table at a time, in
+        `t = ln w*` from `w* = SPOT_FLOOR · (z_top − d)` (the summits below carry 1e-15 of a family's load)."""
+        solve = self._separation_solver(s)
+        table = self._table(s)
+
+        def one(F_star) -> SpotState:
+            state = solve(F_star)
+            z = table.heights * table.span  # in √A_a from the table's lowest point
+            d = state.separation * table.span
+            phi = table.pdf / table.span
+            top = z[-1] - d
+            low = jnp.maximum(z[:-1] - d, SPOT_FLOOR * top)
+            high = jnp.maximum(z[1:] - d, SPOT_FLOOR * top)
+            slope = (phi[1:] - phi[:-1]) / (z[1:] - z[:-1])
+            count = SummitCount(table.log_eta, d, phi[:-1], slope, z[:-1])
+            log_root_R = jnp.full_like(low, 0.5 * table.log_R)
+            load = PowerLaw(log_root_R + math.log(4.0 / 3.0), jnp.full_like(low, 1.5))
+            stiffness = PowerLaw(log_root_R + math.log(2.0), jnp.full_like(low, 0.5))
+            spots = SpotFamilies.without_interaction(count, load, stiffness, jnp.log(low), jnp.log(high))
+            return SpotState(state.status, spots, state.stiffness, jnp.array(False))
+
+        return one
+
+    def _table(self, s) -> _Table:
+        """The statistics in the scene's units (lengths in √A_a), heights from the table's lowest
+        point in units of its span (u in [0, 1]: the root finder's tolerance is absolute in u), and
+        the PDF normalised over u."""
+        length = jnp.exp(s.log_length)
         span = (self.heights[-1] - self.heights[0]) / length
         heights = (self.heights - self.heights[0]) / (self.heights[-1] - self.heights[0])
         pdf = self.pdf / jnp.sum(0.5 * (self.pdf[1:] + self.pdf[:-1]) * jnp.diff(heights))
-        log_span = jnp.log(span)
         log_eta, log_R = jnp.log(self.density) + 2.0 * s.log_length, jnp.log(self.radius) - s.log_length
-        log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_span
-        log_stiffness_scale = math.log(2.0) + log_eta + 0.5 * log_R + 0.5 * log_span
-        log_area_scale = math.log(math.pi) + log_eta + log_R + log_span
-        lowest, top = jnp.zeros_like(span), jnp.full_like(span, 1.0 - TOP_MARGIN)
+        return _Table(span, heights, pdf, log_eta, log_R)
+
+    def _separation_solver(self, s):
+        """`F* ↦ _Separated`: the flat's separation d (in u) that carries the load, and the totals
+        there. J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u."""
+        table = self._table(s)
+        heights, pdf, log_span = table.heights, table.pdf, jnp.log(table.span)
+        log_load_scale = math.log(4.0 / 3.0) + table.log_eta + 0.5 * table.log_R + 1.5 * log_span
+        log_stiffness_scale = math.log(2.0) + table.log_eta + 0.5 * table.log_R + 0.5 * log_span
+        log_area_scale = math.log(math.pi) + table.log_eta + table.log_R + log_span
+        lowest, top = jnp.zeros_like(table.span), jnp.full_like(table.span, 1.0 - TOP_MARGIN)
         highest_load = _log_load(lowest, log_load_scale, heights, pdf)
         lowest_load = _log_load(top, log_load_scale, heights, pdf)
 
-        def one_point(F_star) -> PointResult:
+        def one(F_star) -> _Separated:
             valid = jnp.isfinite(F_star) & (F_star > 0)
             target = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (target > lowest_load) & (target <= highest_load) & (F_star <= LINEAR_ELASTIC_LIMIT)
@@ -147,10 +193,25 @@ class MeasuredAsperities(AbstractContactModel):
                 [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
                 Status.OK,
             ).astype(jnp.int32)
-            response = JointResponse(load[None], stiffness[None], area, jnp.array(False))
-            return PointResult(jnp.full_like(d, jnp.nan), response, status)
+            return _Separated(d, load, stiffness, area, status)
 
-        return one_point
+        return one
+
+
+class _Table(eqx.Module):
+    span: Float[Array, ""]
+    heights: Float[Array, " table"]
+    pdf: Float[Array, " table"]
+    log_eta: Float[Array, ""]
+    log_R: Float[Array, ""]
+
+
+class _Separated(eqx.Module):
+    separation: Float[Array, ""]
+    load: Float[Array, ""]
+    stiffness: Float[Array, ""]
+    area: Float[Array, ""]
+    status: Int[Array, ""]
 
 
 def _check_concrete(model: MeasuredAsperities) -> None:

@@ -25,7 +25,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from ..numerics import check_range, integrate_log_area
+from ..numerics import InputError, check_range, integrate_log_area
 from ..physics._spectrum import log_areal_prefactor, log_band
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
@@ -52,6 +52,12 @@ class Persson(AbstractContactModel):
 
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading
+
+    def spot_solver(self, s):
+        raise InputError(
+            f"model = {self.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model "
+            "that does (xia2024, jzz2010, measured-asperities)"
+        )
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))

@@ -37,7 +37,8 @@ from ..physics import (
     size_distribution,
 )
 from ..quantities import DimensionlessScene
-from ._base import AbstractJoint, AbstractLargestSpotModel, JointResponse
+from ._base import JointResponse
+from ._largest_spot import AbstractJoint, AbstractLargestSpotModel
 from ._load_pieces import PowerLawLoadPieces
 from ._spots import SpotFamilies
 
