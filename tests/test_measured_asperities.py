@@ -28,23 +28,37 @@ def scene_of(model, area=AREA, E=E):
     return jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), area, model=model)
 
 
-def _scipy_stiffness(F, z, pdf, radius, density, E, area):
-    """K at load F by scipy: the flat's height d from brentq on F(d), then K(d), each J_n by quad over
-    the linear interpolant of the PDF (normalised by the trapezoidal rule)."""
-    pdf = pdf / np.trapezoid(pdf, z)
+class ScipyGW:
+    """Greenwood–Williamson on a tabulated summit-height PDF by scipy: each J_n(d) = ∫_d (z − d)^n φ dz
+    by quad over the linear interpolant of the PDF (normalised by the trapezoidal rule), the flat's
+    height d at a load F by brentq on F(d)."""
 
-    def J(n, d):
+    def __init__(self, z, pdf, radius, density, E, area):
+        self.z, self.pdf = z, pdf / np.trapezoid(pdf, z)
+        self.scale = area * density * E * math.sqrt(radius)
+
+    def J(self, n, d):
+        z = self.z
+        if d >= z[-1]:
+            return 0.0
         inside = z[(z > d) & (z < z[-1])]
-        integrand = lambda x: (x - d) ** n * np.interp(x, z, pdf)  # noqa: E731
+        integrand = lambda x: (x - d) ** n * np.interp(x, z, self.pdf)  # noqa: E731
         return integrate.quad(
             integrand, d, z[-1], points=inside if inside.size else None, limit=4 * z.size, epsabs=0.0, epsrel=1e-12
         )[0]
 
-    def load(d):
-        return area * density * 4 / 3 * E * math.sqrt(radius) * J(1.5, d)
+    def load(self, d):
+        return self.scale * 4 / 3 * self.J(1.5, d)
 
-    d = optimize.brentq(lambda d: load(d) - F, z[0], z[-1], xtol=1e-18, rtol=1e-15)
-    return area * density * 2 * E * math.sqrt(radius) * J(0.5, d)
+    def separation(self, F):
+        return optimize.brentq(lambda d: self.load(d) - F, self.z[0], self.z[-1], xtol=1e-18, rtol=1e-15)
+
+    def stiffness(self, F):
+        return self.scale * 2 * self.J(0.5, self.separation(F))
+
+
+def _scipy_stiffness(F, z, pdf, radius, density, E, area):
+    return ScipyGW(z, pdf, radius, density, E, area).stiffness(F)
 
 
 def test_the_stiffness_is_scipys_quadrature_of_the_table():

@@ -267,6 +267,56 @@ def test_amplitudes_of_more_than_one_axis_are_refused():
         jc.tangential_cycle(jc.table1_scene(), 22.0, np.ones((2, 2)), MU)
 
 
+@pytest.fixture(scope="module")
+def summits():
+    """Measured-asperity statistics (a tabulated Gaussian), its scipy twin, and its cycle at 3 N."""
+    from test_measured_asperities import AREA, ETA, GAUSSIAN, HEIGHTS, R, ScipyGW, scene_of
+    from test_measured_asperities import E as modulus
+
+    scene = scene_of(jc.MeasuredAsperities(R, ETA, HEIGHTS, GAUSSIAN))
+    reference = ScipyGW(HEIGHTS, GAUSSIAN, R, ETA, modulus, AREA)
+    return scene, reference, jc.tangential_cycle(scene, 3.0, jnp.asarray(SUMMIT_AMPLITUDES), MU)
+
+
+SUMMIT_AMPLITUDES = np.array([1e-9, 1e-8, 3e-8, 1e-7])  # m: stick → every summit sliding
+RATIO = 2 * (1 - 0.3) / (2 - 0.3)  # k_t/k_n, ν = 0.3
+
+
+def test_the_summits_backbone_is_mu_times_the_load_shed_by_a_raised_flat(summits):
+    """Hertz summits of interference w slide at u* = μw/ratio, so the backbone is
+    Q(u) = μ[F(d) − F(d + u·ratio/μ)] (Greenwood–Williamson with Cattaneo–Mindlin), by scipy."""
+    _, reference, cycle = summits
+    d = reference.separation(3.0)
+    expected = [MU * (3.0 - reference.load(d + u * RATIO / MU)) for u in SUMMIT_AMPLITUDES]
+    np.testing.assert_allclose(np.asarray(cycle.force), expected, rtol=1e-9)
+
+
+def test_the_summits_dissipation_is_scipys(summits):
+    """Σ over summits of the Mindlin–Deresiewicz loop of each (force form), by scipy over the table."""
+    _, reference, cycle = summits
+    d = reference.separation(3.0)
+    z, pdf = reference.z, reference.pdf
+
+    def energy(u0):
+        def per_height(h):
+            w = h - d
+            load = reference.scale * 4 / 3 * w**1.5
+            slip = MU * w / RATIO
+            return np.interp(h, z, pdf) * MU * load * slip * mindlin_deresiewicz(u0 / slip)
+
+        inside = list(z[(z > d) & (z < z[-1])]) + ([d + u0 * RATIO / MU] if d + u0 * RATIO / MU < z[-1] else [])
+        return integrate.quad(per_height, d, z[-1], points=sorted(inside), limit=8 * z.size, epsabs=0, epsrel=1e-11)[0]
+
+    np.testing.assert_allclose(np.asarray(cycle.dissipation)[1:], [energy(u) for u in SUMMIT_AMPLITUDES[1:]], rtol=1e-7)
+
+
+def test_the_summits_stick_stiffness_is_their_tangential_stiffness(summits):
+    scene, _, cycle = summits
+    np.testing.assert_allclose(
+        float(cycle.stick_stiffness), float(jc.tangential_stiffness(scene, 3.0).stiffness), rtol=1e-12
+    )
+
+
 @pytest.mark.parametrize("model", ["gw", "persson"])
 def test_a_model_without_single_spots_is_refused_by_name(model):
     scene = make_scene(**TABLE1, model=model)
