@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pathlib
 
-from ._output import CommandError, print_result
+from ._output import CommandError, add_log_range, print_result
 
 # Default amplitudes: from 1e-3 to 1e2 times μF/k_t, full stick to macroslip.
 DEFAULT_SPAN = (1e-3, 1e2)
@@ -106,11 +106,4 @@ def add_cycle_options(p) -> None:
     p.add_argument(
         "--preload", type=float, help="normal load F (N) (default: [friction] preload, or the scene's middle load)"
     )
-    p.add_argument(
-        "--amplitudes",
-        nargs=2,
-        type=float,
-        metavar=("LOW", "HIGH"),
-        help="tangential displacement amplitudes (m), log-spaced (default: 1e-3 to 1e2 times mu F / k_t)",
-    )
-    p.add_argument("--points", type=int, default=60, help="number of amplitudes (default: 60)")
+    add_log_range(p, "amplitudes", "tangential displacement amplitudes (m)", "1e-3 to 1e2 times mu F / k_t", 60)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pathlib
 
-from ._output import CommandError, print_result
+from ._output import CommandError, add_log_range, print_result
 
 # Default pressures: F* = p/E from 1e-9 to 1e-4, the range of the paper's curves.
 DEFAULT_PRESSURES_OVER_E = (1e-9, 1e-4)
@@ -90,14 +90,7 @@ def _highest_with_stick(law) -> float:
 
 
 def add_interface_options(p) -> None:
-    p.add_argument(
-        "--pressures",
-        nargs=2,
-        type=float,
-        metavar=("LOW", "HIGH"),
-        help="nominal pressures (Pa), log-spaced from LOW to HIGH (default: 1e-9 E to 1e-4 E)",
-    )
-    p.add_argument("--points", type=int, default=40, help="number of pressures (default: 40)")
+    add_log_range(p, "pressures", "nominal pressures (Pa)", "1e-9 E to 1e-4 E", 40)
     p.add_argument("--reference", type=float, help="pressure (Pa) at which the closure is zero (default: LOW)")
     p.add_argument(
         "--friction",

@@ -32,3 +32,16 @@ def print_result(payload, fmt: str, text: str) -> None:
     from ._report import to_json
 
     print(to_json(payload) if fmt == "json" else text)
+
+
+def add_log_range(p, option: str, what: str, default: str, points: int) -> None:
+    """`--OPTION LOW HIGH` (log-spaced `what` from LOW to HIGH, `default` when not given) and
+    `--points N` (`points` by default): the sweep of a command."""
+    p.add_argument(
+        f"--{option}",
+        nargs=2,
+        type=float,
+        metavar=("LOW", "HIGH"),
+        help=f"{what}, log-spaced from LOW to HIGH (default: {default})",
+    )
+    p.add_argument("--points", type=int, default=points, help=f"number of {option} (default: {points})")
