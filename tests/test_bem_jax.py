@@ -62,12 +62,12 @@ def test_a_flat_punch_has_the_stiffness_2Ea():
 
 @pytest.fixture(scope="module")
 def surface():
-    return bem.realisation(1.5, 1e-12, L / 64, L, 256, 0)
+    return bem.realisation(1.5, 1e-12, L / 32, L, 128, 0)
 
 
 @pytest.fixture(scope="module")
 def against_contactmechanics(surface):
-    """Both solvers on the same 256² periodic surface at contact fractions 0.7-15 %."""
+    """Both solvers on the same 128² periodic surface."""
     mine = bem.solve(jnp.asarray(surface.heights()), L, E, jnp.asarray(LOADS))
     return mine, bem.bem_stiffness(surface, E, LOADS)
 
@@ -153,8 +153,8 @@ def test_a_contact_nearly_all_at_the_cap_agrees_with_contactmechanics(nearly_all
 
 def test_plasticity_softens_the_contact(surface):
     heights = jnp.asarray(surface.heights())
-    elastic = bem.solve(heights, L, E, jnp.asarray(LOADS[1:2]))
-    plastic = bem.solve(heights, L, E, jnp.asarray(LOADS[1:2]), hardness=3e8)
+    elastic = bem.solve(heights, L, E, jnp.asarray(LOADS[2:]))
+    plastic = bem.solve(heights, L, E, jnp.asarray(LOADS[2:]), hardness=3e8)
     assert float(plastic.stiffness[0]) < 0.95 * float(elastic.stiffness[0])
 
 
