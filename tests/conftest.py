@@ -119,6 +119,18 @@ LONGEST_FIRST = (
 )
 
 
+def pytest_unconfigure(config):
+    """An xdist worker leaves without freeing its heap: the gigabytes of traced programs and compiled
+    executables the suite leaves behind took its interpreter several seconds to free, which the
+    controller waited for after the last test. Its results are sent by then (`pytest_sessionfinish`)."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        import sys
+
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(0)
+
+
 def pytest_collection_modifyitems(items):
     rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's own order kept
