@@ -13,7 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 from helpers import TABLE1, make_scene, refused_type
-from scipy import integrate
+from scipy import integrate, optimize
 
 import jaxcontact as jc
 from jaxcontact.numerics import x64
@@ -311,7 +311,28 @@ def test_the_summits_stick_stiffness_is_their_tangential_stiffness(summits):
     )
 
 
-@pytest.mark.parametrize("model", ["gw", "persson"])
+def test_gw_summits_backbone_is_mu_times_the_load_shed_by_a_raised_flat():
+    """GW's Gaussian summits (McCool's statistics of the Table 1 spectrum): Q(u) = μ[F(h) − F(h + ŵ_s)],
+    ŵ_s = u·ratio/(μσ_s), with F(h) = (4/3) E η A √R σ^(3/2) I_{3/2}(h) by scipy's quadrature."""
+    from jaxcontact.models._greenwood_williamson import summit_statistics
+    from jaxcontact.quantities import nondimensionalise
+
+    scene = make_scene(**TABLE1, model="gw")
+    log_eta, log_R, log_sigma = (float(x) for x in summit_statistics(nondimensionalise(scene)))
+    unit_load, sigma = TABLE1["E"] * TABLE1["area"], math.exp(log_sigma) * math.sqrt(TABLE1["area"])
+
+    def load(h):
+        tail = integrate.quad(lambda s: (s - h) ** 1.5 * math.exp(-s * s / 2), h, h + 40, epsabs=0, epsrel=1e-13)[0]
+        return unit_load * 4 / 3 * math.exp(log_eta + 0.5 * log_R + 1.5 * log_sigma) * tail / math.sqrt(2 * math.pi)
+
+    h = optimize.brentq(lambda h: load(h) - 22.0, -1.0, 40.0, xtol=1e-15)
+    ratio = 2 * (1 - TABLE1["nu"]) / (2 - TABLE1["nu"])
+    amplitudes = np.array([1e-10, 1e-9, 1e-8, 1e-7])
+    expected = [MU * (22.0 - load(h + u * ratio / (MU * sigma))) for u in amplitudes]
+    np.testing.assert_allclose(jc.tangential_cycle(scene, 22.0, jnp.asarray(amplitudes), MU).force, expected, rtol=1e-9)
+
+
+@pytest.mark.parametrize("model", ["persson"])
 def test_a_model_without_single_spots_is_refused_by_name(model):
     scene = make_scene(**TABLE1, model=model)
     with pytest.raises(ValueError, match=f"model = '{model}'"):

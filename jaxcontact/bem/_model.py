@@ -76,7 +76,7 @@ class BEM(AbstractSweptModel):
     def spot_solver(self, s):
         raise InputError(
             f"model = {self.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model "
-            "that does (xia2024, jzz2010, measured-asperities)"
+            "that does (xia2024, jzz2010, gw, measured-asperities)"
         )
 
     def kink_log_loads(self, s):

@@ -56,7 +56,7 @@ def tangential_cycle(
     **Arguments:**
 
     - `scene`: the joint; its model must resolve single spots (`Xia2024`, `JZZ2010`, any
-      `AbstractLargestSpotModel`, `MeasuredAsperities`).
+      `AbstractLargestSpotModel`, `GreenwoodWilliamson`, `MeasuredAsperities`).
     - `preload`: the normal load F, N (a scalar; `jax.vmap` for several).
     - `amplitudes`: tangential displacement amplitudes u₀, m, a 1-D array.
     - `mu`: the friction coefficient μ > 0.
@@ -67,7 +67,7 @@ def tangential_cycle(
     the model cannot solve gives its status at every amplitude; a traced NaN or non-positive
     amplitude `INVALID_LOAD`, a traced μ ≤ 0 `INVALID_PARAMETERS`, the rest of the batch unaffected.
 
-    **Raises:** `ValueError` for a model without single spots (Persson, the BEM; GW's are not built), for concrete
+    **Raises:** `ValueError` for a model without single spots (Persson, the BEM), for concrete
     non-positive or non-finite preload, amplitudes or μ, for amplitudes that are not 1-D, and for
     `nodes` outside 8–256.
     """

@@ -10,7 +10,7 @@ from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPie
 from ._measured_asperities import MeasuredAsperities
 from ._persson import Persson
 from ._registry import DISTRIBUTIONS, INTERACTIONS, MODELS, QUADRATURES, SPOT_STIFFNESSES, build_model, register_model
-from ._spots import SpotFamilies, SpotState, SummitCount
+from ._spots import GaussianSummitCount, SpotFamilies, SpotState, SummitCount
 from ._xia2024 import Xia2024
 
 __all__ = [
@@ -31,6 +31,7 @@ __all__ = [
     "SpotFamilies",
     "SpotState",
     "SummitCount",
+    "GaussianSummitCount",
     "JZZ2010",
     "MeasuredAsperities",
     "MODELS",

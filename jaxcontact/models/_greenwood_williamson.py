@@ -22,11 +22,13 @@ import math
 from typing import ClassVar
 
 import jax.numpy as jnp
+import numpy as np
 
-from ..numerics import InputError, NewtonBisection, cached, check_instance
+from ..numerics import NewtonBisection, PowerLaw, cached, check_instance
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._spots import GaussianSummitCount, Separated, SpotFamilies, SpotState
 
 # The separations solved for: above H_HIGHEST no load a float can hold is left; below H_LOWEST
 # the flat presses past the mean summit plane, where GW's independent summits do not apply (and
@@ -34,6 +36,11 @@ from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel,
 # more than the nominal area, or above `LINEAR_ELASTIC_LIMIT`, are out of range too.
 H_LOWEST, H_HIGHEST = -1.0, 40.0
 LAGUERRE_NODES = 96
+# The summits resolved one by one (partial slip), in families of interference ŵ (in σ_s): eight
+# geometric ones from 1e-8 to 0.5 (a summit's load goes as ŵ^(3/2): those below carry nothing a
+# float sees), then bands of 0.5 up to 12 above the flat (φ(12) ≈ 1e-32). Each family spans a few
+# units of ln ŵ at most, where 16 Gauss–Legendre nodes integrate its smooth integrand to round-off.
+INTERFERENCE_EDGES = tuple(np.geomspace(1e-8, 0.5, 9)) + tuple(0.5 * np.arange(2, 25))
 
 
 @cached
@@ -99,16 +106,41 @@ class GreenwoodWilliamson(AbstractContactModel):
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading
 
-    def spot_solver(self, s):
-        raise InputError(
-            f"model = {self.name!r}: the partial slip of its Gaussian summits is not built; MeasuredAsperities "
-            "with a tabulated Gaussian height PDF resolves the same summits one by one"
-        )
-
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
+        solve = self._separation_solver(s)
+
+        def one_point(F_star) -> PointResult:
+            state = solve(F_star)
+            response = JointResponse(state.load[None], state.stiffness[None], state.area, jnp.array(False))
+            return PointResult(jnp.full_like(state.separation, jnp.nan), response, state.status)
+
+        return one_point
+
+    def spot_solver(self, s):
+        """The separation solve, and the summits in contact in the families of `INTERFERENCE_EDGES`,
+        in `t = ln ŵ` (ŵ the interference in units of σ_s)."""
+        solve = self._separation_solver(s)
+        log_eta, log_R, log_sigma = summit_statistics(s)
+
+        def one(F_star) -> SpotState:
+            state = solve(F_star)
+            h = state.separation
+            edges = jnp.asarray(INTERFERENCE_EDGES, h.dtype)
+            low, high = edges[:-1], edges[1:]
+            count = GaussianSummitCount(log_eta, h)
+            log_law = jnp.full_like(low, 0.5 * log_R)
+            load = PowerLaw(log_law + math.log(4.0 / 3.0) + 1.5 * log_sigma, jnp.full_like(low, 1.5))
+            stiffness = PowerLaw(log_law + math.log(2.0) + 0.5 * log_sigma, jnp.full_like(low, 0.5))
+            spots = SpotFamilies.without_interaction(count, load, stiffness, jnp.log(low), jnp.log(high))
+            return SpotState(state.status, spots, state.stiffness, jnp.array(False))
+
+        return one
+
+    def _separation_solver(self, s):
+        """`F* ↦ Separated`: the separation h (in σ_s) that carries the load, and the totals there."""
         log_eta, log_R, log_sigma = summit_statistics(s)
         log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_sigma
         log_stiffness_scale = math.log(2.0) + log_eta + 0.5 * log_R + 0.5 * log_sigma
@@ -118,7 +150,7 @@ class GreenwoodWilliamson(AbstractContactModel):
         lowest = log_load_scale + log_tail_moment(1.5, jnp.asarray(H_HIGHEST, dtype))
         valid_scene = jnp.isfinite(highest) & jnp.isfinite(lowest)
 
-        def one_point(F_star) -> PointResult:
+        def one(F_star) -> Separated:
             valid = jnp.isfinite(F_star) & (F_star > 0)
             log_load = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (log_load > lowest) & (log_load <= highest) & (F_star <= LINEAR_ELASTIC_LIMIT)
@@ -142,7 +174,6 @@ class GreenwoodWilliamson(AbstractContactModel):
                 [Status.INVALID_PARAMETERS, Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
                 Status.OK,
             ).astype(jnp.int32)
-            response = JointResponse(load[None], stiffness[None], area, jnp.array(False))
-            return PointResult(jnp.full_like(h, jnp.nan), response, status)
+            return Separated(h, load, stiffness, area, status)
 
-        return one_point
+        return one

@@ -21,12 +21,12 @@ from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, Float
 
 from ..numerics import InputError, NewtonBisection, PowerLaw, check_instance
 from ..quantities import Status
 from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
-from ._spots import SpotFamilies, SpotState, SummitCount
+from ._spots import Separated, SpotFamilies, SpotState, SummitCount
 
 # The highest separation solved for, as a fraction of the heights' span below the top: loads lower
 # than the one it carries are out of range (near the top the load falls to zero as (z_max − d)^(7/2)).
@@ -164,7 +164,7 @@ class MeasuredAsperities(AbstractContactModel):
         return _Table(span, heights, pdf, log_eta, log_R)
 
     def _separation_solver(self, s):
-        """`F* ↦ _Separated`: the flat's separation d (in u) that carries the load, and the totals
+        """`F* ↦ Separated`: the flat's separation d (in u) that carries the load, and the totals
         there. J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u."""
         table = self._table(s)
         heights, pdf, log_span = table.heights, table.pdf, jnp.log(table.span)
@@ -175,7 +175,7 @@ class MeasuredAsperities(AbstractContactModel):
         highest_load = _log_load(lowest, log_load_scale, heights, pdf)
         lowest_load = _log_load(top, log_load_scale, heights, pdf)
 
-        def one(F_star) -> _Separated:
+        def one(F_star) -> Separated:
             valid = jnp.isfinite(F_star) & (F_star > 0)
             target = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (target > lowest_load) & (target <= highest_load) & (F_star <= LINEAR_ELASTIC_LIMIT)
@@ -193,7 +193,7 @@ class MeasuredAsperities(AbstractContactModel):
                 [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
                 Status.OK,
             ).astype(jnp.int32)
-            return _Separated(d, load, stiffness, area, status)
+            return Separated(d, load, stiffness, area, status)
 
         return one
 
@@ -204,14 +204,6 @@ class _Table(eqx.Module):
     pdf: Float[Array, " table"]
     log_eta: Float[Array, ""]
     log_R: Float[Array, ""]
-
-
-class _Separated(eqx.Module):
-    separation: Float[Array, ""]
-    load: Float[Array, ""]
-    stiffness: Float[Array, ""]
-    area: Float[Array, ""]
-    status: Int[Array, ""]
 
 
 def _check_concrete(model: MeasuredAsperities) -> None:

@@ -8,6 +8,8 @@ size variable (the contact area of a largest-spot joint, the interference of a G
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
@@ -38,20 +40,48 @@ class SummitCount(eqx.Module):
         return jnp.exp(self.log_count) * (self.phi0 + self.slope * (self.separation + w - self.z0)) * w
 
 
+class GaussianSummitCount(eqx.Module):
+    """`dN/dt` of Greenwood–Williamson summits of standard normal heights (in units of their
+    deviation σ_s) over a flat at separation h, in `t = ln ŵ` (ŵ = s − h): `N φ(h + ŵ) ŵ`."""
+
+    log_count: Float[Array, ""]
+    separation: Float[Array, ""]
+
+    def expanded(self) -> GaussianSummitCount:
+        return self
+
+    def __call__(self, t):
+        w = jnp.exp(t)
+        s = self.separation + w
+        return jnp.exp(self.log_count - 0.5 * s * s - 0.5 * math.log(2.0 * math.pi)) * w
+
+
+class Separated(eqx.Module):
+    """A Greenwood–Williamson-type model's state at one load: the flat's separation, the totals
+    there (dimensionless) and the point's status."""
+
+    separation: Float[Array, ""]
+    load: Float[Array, ""]
+    stiffness: Float[Array, ""]
+    area: Float[Array, ""]
+    status: Int[Array, ""]
+
+
 class SpotFamilies(eqx.Module):
     """The spots of a joint at one state, in families over ranges of `t`, the log of a size variable:
     the contact area a* for the largest-spot models (one family per regime), the interference w*
     for Greenwood–Williamson summits (one per interval of the height table). Dimensionless: areas
     in `A_a`, lengths in `√A_a`, loads in `E A_a`, stiffnesses in `E √A_a`.
 
-    **Fields:** `count`, `dN/dt`, spots per unit of t (`n(a) a`, a `PowerLaw`; or a `SummitCount`);
+    **Fields:** `count`, `dN/dt`, spots per unit of t (`n(a) a`, a `PowerLaw`; or a `SummitCount`,
+    `GaussianSummitCount`);
     `load`, one spot's load f*; `stiffness`, one spot's initial unloading stiffness without
     interaction k₀*;
     `ratio`, `r(a) = σ'/ξ'` at the load (Eq. 22), which the `interaction` turns into the factor
     `k/k₀`; `lower`, `upper`, each family's range of `t`.
     """
 
-    count: PowerLaw | SummitCount
+    count: PowerLaw | SummitCount | GaussianSummitCount
     load: PowerLaw
     stiffness: PowerLaw
     ratio: PowerLaw
