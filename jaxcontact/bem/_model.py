@@ -11,7 +11,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..models import AbstractSweptModel, JointResponse, PointResult
+from ..models import AbstractSweptModel, JointResponse, PointResult, without_single_spots
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration
@@ -50,6 +50,7 @@ class BEM(AbstractSweptModel):
     pad_loads: ClassVar[bool] = False
     # The contact set moves a grid point at a time as D, G, l_min change: K is smooth only to ~1e-6.
     precision: ClassVar[float] = 1e-6
+    single_spots: ClassVar[bool] = False
     grid: int = eqx.field(static=True, default=256)
     realisations: int = eqx.field(static=True, default=2)
     seed: int = eqx.field(static=True, default=0)
@@ -74,10 +75,7 @@ class BEM(AbstractSweptModel):
         return not self.plastic
 
     def spot_solver(self, s):
-        raise InputError(
-            f"model = {self.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model "
-            "that does (xia2024, jzz2010, gw, measured-asperities)"
-        )
+        raise without_single_spots(self)
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))

@@ -16,6 +16,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float, Int
 
+from ..models import without_single_spots
 from ..numerics._validate import InputError, check_range
 from ..physics import mindlin_ratio
 from ..quantities import Scales, Status, nondimensionalise
@@ -71,7 +72,8 @@ def tangential_cycle(
     non-positive or non-finite preload, amplitudes or μ, for amplitudes that are not 1-D, and for
     `nodes` outside 8–256.
     """
-    scene.model.spot_solver(nondimensionalise(within_domain(scene)[0]))  # a model without spots says so
+    if not scene.model.single_spots:
+        raise without_single_spots(scene.model)
     if isinstance(nodes, bool) or not isinstance(nodes, int) or not 8 <= nodes <= 256:
         raise InputError(f"nodes = {nodes!r} must be an integer in [8, 256]")
     if jnp.ndim(preload) != 0:

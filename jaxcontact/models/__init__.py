@@ -2,7 +2,14 @@
 largest-spot models, the seed model (`Xia2024`) and its comparators, and the registry from names to
 objects. A new model is one file here plus one line in `_registry.py` (or `register_model`)."""
 
-from ._base import CLOSED_INTERFACE, AbstractContactModel, AbstractSweptModel, JointResponse, PointResult
+from ._base import (
+    CLOSED_INTERFACE,
+    AbstractContactModel,
+    AbstractSweptModel,
+    JointResponse,
+    PointResult,
+    without_single_spots,
+)
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
 from ._largest_spot import AbstractJoint, AbstractLargestSpotModel, curve_solver, has_unloading_law
@@ -42,4 +49,5 @@ __all__ = [
     "register_model",
     "SPOT_STIFFNESSES",
     "Xia2024",
+    "without_single_spots",
 ]

@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
+from ..numerics import InputError
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
 from ._spots import SpotState
@@ -71,7 +72,8 @@ class AbstractContactModel(eqx.Module):
     `pad_loads` (True unless set: eager solves and fits pad load arrays to a few lengths, so that
     new lengths do not compile again; a model whose every load is a costly solve, such as the
     boundary-element one, sets it to False), `precision` (the relative precision of K as the model
-    computes it, 0 for round-off: fits stop no finer than it). A model that solves for each load's
+    computes it, 0 for round-off: fits stop no finer than it), `single_spots` (whether
+    `spot_solver` gives the spots one by one; False for Persson and the BEM). A model that solves for each load's
     state holds its root finder as a field (`root_finder`, as diffrax's implicit solvers do).
     """
 
@@ -79,6 +81,7 @@ class AbstractContactModel(eqx.Module):
     regimes: eqx.AbstractClassVar[tuple[str, ...]]
     pad_loads: ClassVar[bool] = True
     precision: ClassVar[float] = 0.0
+    single_spots: ClassVar[bool] = True
 
     @abc.abstractmethod
     def point_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, ""]], PointResult]:
@@ -101,7 +104,8 @@ class AbstractContactModel(eqx.Module):
     @abc.abstractmethod
     def spot_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, ""]], SpotState]:
         """`F* ↦ SpotState`: the state at one load with its spots one by one (for partial slip,
-        `jaxcontact.tangential_cycle`). **Raises:** `InputError` for a model without single spots."""
+        `jaxcontact.tangential_cycle`). A model without single spots sets `single_spots = False`
+        and raises `without_single_spots(self)` here."""
 
     @typing.final
     def options(self) -> dict[str, str]:
@@ -133,3 +137,11 @@ class AbstractSweptModel(AbstractContactModel):
     def point_solver(self, s):
         sweep = self.sweep_solver(s)
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
+
+
+def without_single_spots(model: AbstractContactModel) -> InputError:
+    """The error of asking a model that resolves no single spots for them (partial slip)."""
+    return InputError(
+        f"model = {model.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model that "
+        "does (xia2024, jzz2010, gw, measured-asperities)"
+    )

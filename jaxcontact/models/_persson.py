@@ -25,10 +25,17 @@ import equinox as eqx
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from ..numerics import InputError, check_range, integrate_log_area
+from ..numerics import check_range, integrate_log_area
 from ..physics._spectrum import log_areal_prefactor, log_band
 from ..quantities import Status
-from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import (
+    CLOSED_INTERFACE,
+    LINEAR_ELASTIC_LIMIT,
+    AbstractContactModel,
+    JointResponse,
+    PointResult,
+    without_single_spots,
+)
 
 LOG_X_END = math.log(6.0)
 
@@ -42,6 +49,7 @@ class Persson(AbstractContactModel):
     """
 
     name: ClassVar[str] = "persson"
+    single_spots: ClassVar[bool] = False
     regimes: ClassVar[tuple[str, ...]] = ("e",)
     gamma: float = eqx.field(static=True, default=0.45)
     nodes: int = eqx.field(static=True, default=96)
@@ -54,10 +62,7 @@ class Persson(AbstractContactModel):
         return True  # elastic: unloading retraces loading
 
     def spot_solver(self, s):
-        raise InputError(
-            f"model = {self.name!r} resolves no single spots: partial slip (tangential_cycle) needs a model "
-            "that does (xia2024, jzz2010, gw, measured-asperities)"
-        )
+        raise without_single_spots(self)
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
