@@ -56,30 +56,22 @@ def spot_sums(families: SpotFamilies, u, factor, nodes: int) -> dict:
     lower = jnp.broadcast_to(families.lower, split.shape)
     upper = jnp.broadcast_to(families.upper, split.shape)
 
-    def integrand(kind):
-        def g(t):
-            count, load, stiffness = families.at(t)
-            slip = slip_displacement(factor, load, stiffness)
-            x = u[:, None, None] / slip
-            if kind == "force":
-                value = load * backbone(x)
-            elif kind == "energy":
-                value = load * slip * loop_energy(x)
-            else:
-                value = jnp.where(x >= 1.0, load, 0.0)
-            return count * value
+    def g(t):
+        """The three sums' integrands at t, stacked on a leading axis (one pass over the spots)."""
+        count, load, stiffness = families.at(t)
+        slip = slip_displacement(factor, load, stiffness)
+        x = u[:, None, None] / slip
+        per_spot = jnp.stack([load * backbone(x), load * slip * loop_energy(x), jnp.where(x >= 1.0, load, 0.0)])
+        return count * per_spot
 
-        return g
-
-    def total(kind):
-        g = integrand(kind)
-        beyond = integrate_log_area(g, lower, split, nodes)
-        length = (upper - split)[..., None]
-        within = lambda v: g(split[..., None] + length * v * v) * 2.0 * length * v  # noqa: E731
-        before = integrate_log_area(within, jnp.zeros_like(split), jnp.ones_like(split), nodes)
-        return jnp.sum(beyond + before, axis=-1)
+    # `integrate_log_area` weighs the integrand's trailing (node) axis: the stacked sums ride along.
+    beyond = integrate_log_area(g, lower, split, nodes)
+    length = (upper - split)[..., None]
+    within = lambda v: g(split[..., None] + length * v * v) * 2.0 * length * v  # noqa: E731
+    before = integrate_log_area(within, jnp.zeros_like(split), jnp.ones_like(split), nodes)
+    force, energy, sliding = jnp.sum(beyond + before, axis=-1)
 
     grid = jnp.linspace(0.0, 1.0, 2 * nodes + 1)
     probe = families.lower[:, None] + (families.upper - families.lower)[:, None] * grid
     monotone = jnp.all(jnp.diff(log_slip_at(probe), axis=-1) >= 0.0)
-    return {kind: total(kind) for kind in ("force", "energy", "sliding")} | {"monotone": monotone}
+    return {"force": force, "energy": energy, "sliding": sliding, "monotone": monotone}
