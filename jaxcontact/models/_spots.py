@@ -28,9 +28,10 @@ class SummitCount(eqx.Module):
 
     log_count: Float[Array, ""]
     separation: Float[Array, ""]
-    phi0: Float[Array, " families"]
-    slope: Float[Array, " families"]
-    z0: Float[Array, " families"]
+    # One row per family; `expanded()` adds a trailing axis to evaluate each on its own nodes.
+    phi0: Float[Array, "families *node"]
+    slope: Float[Array, "families *node"]
+    z0: Float[Array, "families *node"]
 
     def expanded(self) -> SummitCount:
         return SummitCount(self.log_count, self.separation, self.phi0[:, None], self.slope[:, None], self.z0[:, None])
@@ -90,7 +91,9 @@ class SpotFamilies(eqx.Module):
     upper: Float[Array, " families"]
 
     @classmethod
-    def without_interaction(cls, count: PowerLaw, load: PowerLaw, stiffness: PowerLaw, lower, upper) -> SpotFamilies:
+    def without_interaction(
+        cls, count: PowerLaw | SummitCount | GaussianSummitCount, load: PowerLaw, stiffness: PowerLaw, lower, upper
+    ) -> SpotFamilies:
         """Families whose spots do not interact (JZZ, toy models)."""
         ratio = PowerLaw(jnp.full_like(lower, _NO_RATIO), jnp.zeros_like(lower))
         return cls(count, load, stiffness, ratio, NoInteraction(), lower, upper)
