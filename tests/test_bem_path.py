@@ -26,15 +26,15 @@ def centred_grid(n):
     return x[:, None], x[None, :]
 
 
-# A paraboloid (R = 1, E* = 1) on a free half-space, loaded to the elastic Hertz load of a = 0.2 (26
-# grid spacings) with the pressure capped at half Hertz's peak, 0.06: the contact flattens.
+# A paraboloid (R = 1, E* = 1) on a free half-space (64²), loaded to the elastic Hertz load of
+# a = 0.2 (13 grid spacings) with the pressure capped at half Hertz's peak, 0.06: the contact flattens.
 SPHERE_LOAD = 4 * 0.2**3 / 3
 SPHERE_PATH = np.array([0.25, 0.5, 1.0, 0.5, 0.25, 0.5, 1.0, 1.2]) * SPHERE_LOAD
 
 
 @pytest.fixture(scope="module")
 def sphere():
-    x, y = centred_grid(128)
+    x, y = centred_grid(64)
     heights = jnp.asarray(-(x * x + y * y) / 2)
     path = bem.solve_path(heights, 1.0, 1.0, jnp.asarray(SPHERE_PATH), hardness=0.06, substrate=bem.Free())
     return heights, path
