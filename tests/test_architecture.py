@@ -3,6 +3,7 @@ implementation modules, and methods of equinox modules either abstract or final.
 
 import ast
 import collections
+import functools
 import importlib
 import inspect
 import pathlib
@@ -71,7 +72,13 @@ def _imports(name: str, path: pathlib.Path, is_package: bool) -> set[str]:
 
 
 MODULES = {name: (path, is_package) for name, path, is_package in _modules()}
-GRAPH = {name: _imports(name, path, is_package) for name, (path, is_package) in MODULES.items()}
+
+
+@functools.cache
+def _graph() -> dict[str, set[str]]:
+    """Each module's imports of jaxcontact modules, parsed when a test first asks (both workers
+    import every test module; one of them runs these tests)."""
+    return {name: _imports(name, path, is_package) for name, (path, is_package) in MODULES.items()}
 
 
 def _layer(module: str) -> str | None:
@@ -83,7 +90,7 @@ def _layer(module: str) -> str | None:
 
 def test_every_import_goes_to_a_lower_layer():
     upward = []
-    for module, targets in GRAPH.items():
+    for module, targets in _graph().items():
         source = _layer(module)
         for target in targets:
             into = _layer(target)
@@ -100,14 +107,14 @@ def test_there_is_no_import_cycle():
 
     def visit(node, stack):
         state[node] = "open"
-        for target in sorted(GRAPH.get(node, ())):
+        for target in sorted(_graph().get(node, ())):
             if state.get(target) == "open":
                 cycles.append(" -> ".join(stack[stack.index(target) :] + [target]))
             elif target not in state:
                 visit(target, stack + [target])
         state[node] = "done"
 
-    for module in sorted(GRAPH):
+    for module in sorted(_graph()):
         if module not in state:
             visit(module, [module])
     # A package's __init__ re-exporting its own modules is not a cycle unless a module imports it back.
@@ -169,7 +176,7 @@ def test_the_toy_model_is_written_with_exported_names_only():
 def test_fitting_uses_the_public_faces_only():
     private = sorted(
         t
-        for m, ts in GRAPH.items()
+        for m, ts in _graph().items()
         if m.startswith("jaxcontact.fitting")
         for t in ts
         if "._" in t and not t.startswith("jaxcontact.fitting")

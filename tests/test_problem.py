@@ -13,15 +13,15 @@ from helpers import make_scene
 from jaxcontact import InputError, fitting
 from jaxcontact.fitting._synthetic import synthetic_curve
 
-LOADS, K = synthetic_curve(make_scene(**TRUTH), np.geomspace(1e-10, 1e-4, 12), noise=0.05, seed=4)
-
 
 @pytest.fixture(scope="module")
 def fitted():
     """The seed model's curve fitted by `fit` (its loads padded for its compiled program), and the
-    problem of that curve with the fit's optimum in optimiser coordinates."""
-    result = fitting.fit(LOADS, K, make_scene(**START), n_starts=4)
-    problem = fitting.Problem.of(LOADS, K, make_scene(**START))
+    problem of that curve with the fit's optimum in optimiser coordinates. Made here, not when the
+    module is imported: both workers import every test module."""
+    loads, stiffness = synthetic_curve(make_scene(**TRUTH), np.geomspace(1e-10, 1e-4, 12), noise=0.05, seed=4)
+    result = fitting.fit(loads, stiffness, make_scene(**START), n_starts=4)
+    problem = fitting.Problem.of(loads, stiffness, make_scene(**START))
     u = np.array([p.u_from_stat(p.to_stat(result.values[p.name])) for p in problem.params])
     return result, problem, jnp.asarray(u)
 
