@@ -24,7 +24,7 @@ from jaxtyping import Array, Bool, Float, Int
 from ..numerics import InputError
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
-from ._spots import SpotState
+from ._spots import Separated, SpotState
 
 # A nominal pressure above E (F* > 1) means strains of order one: beyond the linear elasticity of
 # the elastic comparators (GW, Persson), whose loads are flagged out of range there.
@@ -62,6 +62,12 @@ class PointResult(eqx.Module):
         """K* where the point is valid, NaN otherwise."""
         K = unrolled_sum(self.response.regime_stiffness)
         return jnp.where(self.status == Status.OK, K, jnp.nan)
+
+
+def separated_point(state: Separated) -> PointResult:
+    """The `PointResult` of a Greenwood–Williamson-type state (one regime; `a_l` NaN: no largest spot)."""
+    response = JointResponse(state.load[None], state.stiffness[None], state.area, jnp.array(False))
+    return PointResult(jnp.full_like(state.separation, jnp.nan), response, state.status)
 
 
 class AbstractContactModel(eqx.Module):

@@ -27,7 +27,12 @@ import numpy as np
 from ..numerics import NewtonBisection, PowerLaw, cached, check_instance
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
-from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import (
+    CLOSED_INTERFACE,
+    LINEAR_ELASTIC_LIMIT,
+    AbstractContactModel,
+    separated_point,
+)
 from ._spots import GaussianSummitCount, Separated, SpotFamilies, SpotState
 
 # The separations solved for: above H_HIGHEST no load a float can hold is left; below H_LOWEST
@@ -111,13 +116,7 @@ class GreenwoodWilliamson(AbstractContactModel):
 
     def point_solver(self, s):
         solve = self._separation_solver(s)
-
-        def one_point(F_star) -> PointResult:
-            state = solve(F_star)
-            response = JointResponse(state.load[None], state.stiffness[None], state.area, jnp.array(False))
-            return PointResult(jnp.full_like(state.separation, jnp.nan), response, state.status)
-
-        return one_point
+        return lambda F_star: separated_point(solve(F_star))
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact in the families of `INTERFERENCE_EDGES`,

@@ -25,7 +25,12 @@ from jaxtyping import Array, Float
 
 from ..numerics import InputError, NewtonBisection, PowerLaw, check_instance
 from ..quantities import Status
-from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import (
+    CLOSED_INTERFACE,
+    LINEAR_ELASTIC_LIMIT,
+    AbstractContactModel,
+    separated_point,
+)
 from ._spots import Separated, SpotFamilies, SpotState, SummitCount
 
 # The highest separation solved for, as a fraction of the heights' span below the top: loads lower
@@ -120,13 +125,7 @@ class MeasuredAsperities(AbstractContactModel):
 
     def point_solver(self, s):
         solve = self._separation_solver(s)
-
-        def one_point(F_star) -> PointResult:
-            state = solve(F_star)
-            response = JointResponse(state.load[None], state.stiffness[None], state.area, jnp.array(False))
-            return PointResult(jnp.full_like(state.separation, jnp.nan), response, state.status)
-
-        return one_point
+        return lambda F_star: separated_point(solve(F_star))
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact one interval of the table at a time, in
