@@ -221,6 +221,14 @@ def stand_in_loads(loads, default):
     return jnp.where(valid, loads, jnp.where(jnp.any(valid), mean, default)), valid
 
 
+def warm_start(problem: GridProblem, previous, previous_total, total, weight):
+    """The pressure a load's iteration starts from: the last load's, scaled to this one, blended
+    with a uniform pressure (`weight` of the former); the uniform one alone before any load."""
+    uniform = jnp.full_like(problem.heights, total / problem.heights.size)
+    ratio = total / jnp.where(previous_total > 0, previous_total, 1.0)
+    return jnp.where(previous_total > 0, weight * previous * ratio + (1 - weight) * uniform, uniform)
+
+
 def sweep(problem: GridProblem, totals, tolerance: float, max_iterations: int, with_pressure: bool = False) -> dict:
     """`contact_at` at every load of `totals` (grid units, positive), solved in increasing order,
     each from the last one's pressure; the outputs in the order given (a leading loads axis)."""
@@ -232,10 +240,8 @@ def sweep(problem: GridProblem, totals, tolerance: float, max_iterations: int, w
         # the last load's shape: half its pressure scaled to this load and half uniform, or from a
         # load within `_CLOSE_RATIO` (the secant's other side, whose contact set is nearly this one's)
         # 95 % the scaled pressure.
-        uniform = jnp.full_like(problem.heights, total / problem.heights.size)
-        ratio = total / jnp.where(previous_total > 0, previous_total, 1.0)
-        weight = jnp.where(ratio < _CLOSE_RATIO, 0.95, 0.5)
-        start = jnp.where(previous_total > 0, weight * previous * ratio + (1 - weight) * uniform, uniform)
+        close = total < _CLOSE_RATIO * previous_total
+        start = warm_start(problem, previous, previous_total, total, jnp.where(close, 0.95, 0.5))
         out = contact_at(problem, total, start, tolerance, max_iterations)
         found = out.pop("found")
         if not with_pressure:

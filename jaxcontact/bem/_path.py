@@ -20,7 +20,7 @@ from jaxtyping import Array, ArrayLike, Float, Int
 from ..numerics._validate import InputError, check_strategy
 from ..quantities import Branch, Status, branches
 from ._checks import check_arguments, check_iteration, valid_problem
-from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, contact_at, stand_in_loads
+from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, contact_at, stand_in_loads, warm_start
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
 from ._tangent import elastic_stiffness
 
@@ -103,16 +103,21 @@ def _solve_path(heights, size, modulus, path, hardness, substrate, tolerance, ma
         flattened, previous, previous_total = carry
         total, usable, kind = inputs
         now = eqx.tree_at(lambda p: p.heights, problem, flattened)
-        # From the last point's pressure scaled to this load: a path's neighbours share most of
-        # their contact set, on unloading as on loading.
-        ratio = total / jnp.where(previous_total > 0, previous_total, 1.0)
-        uniform = jnp.full_like(flattened, total / flattened.size)
-        start = jnp.where(previous_total > 0, 0.9 * previous * ratio + 0.1 * uniform, uniform)
+        # Mostly from the last point's pressure scaled to this load: a path's neighbours share most
+        # of their contact set, on unloading as on loading.
+        start = warm_start(now, previous, previous_total, total, 0.9)
         out = contact_at(now, total, start, tolerance, max_iterations)
-        plastic = (out["found"] >= now.cap) & usable
+        at_cap = out["found"] >= now.cap
+        plastic = at_cap & usable
         gap = now.compliance(out["pressure"]) - flattened - out["offset"]
         flattened = flattened + jnp.where(plastic, jnp.minimum(gap, 0.0), 0.0)
-        elastic = elastic_stiffness(now.compliance, out["found"] > 0, tolerance)
+        # With nothing at the cap the contact set is the solve's own elastic set, whose tangent it
+        # has: a second linear solve is needed only where points flow.
+        elastic = jax.lax.cond(
+            jnp.any(at_cap),
+            lambda: elastic_stiffness(now.compliance, out["found"] > 0, tolerance),
+            lambda: out["stiffness"],
+        )
         stiffness = jnp.where(kind == Branch.LOADING, out["stiffness"], elastic)
         found = jnp.where(usable, out["found"], previous)
         point = dict(

@@ -58,6 +58,12 @@ def _active_solve(compliance: Compliance, active, vector, start, tolerance: floa
     return jax.lax.custom_linear_solve(matvec, vector, solve, symmetric=True)
 
 
+def _unit_response(compliance: Compliance, points, tolerance: float):
+    """`C_PP⁻¹ 1` on the points P (0 elsewhere): the pressure of a unit rigid approach of P."""
+    ones = jnp.where(points, 1.0, 0.0).astype(compliance.stiffness.dtype)
+    return _active_solve(compliance, points, ones, jnp.zeros_like(ones), tolerance)
+
+
 def frozen_solution(
     compliance: Compliance, heights, total, hardness, active, plastic, guess, guess_offset, tolerance: float
 ):
@@ -66,8 +72,7 @@ def frozen_solution(
     `guess`, `guess_offset`: the pressure and offset the constrained iteration found (a warm start
     for the second solve); `tolerance`: the conjugate gradients' relative tolerance.
     """
-    ones = jnp.where(active, 1.0, 0.0).astype(heights.dtype)
-    x1 = _active_solve(compliance, active, ones, jnp.zeros_like(ones), tolerance)
+    x1 = _unit_response(compliance, active, tolerance)
     plastic_pressure = jnp.where(plastic, jnp.where(plastic, hardness, 0.0), 0.0).astype(heights.dtype)
     rhs = jnp.where(active, heights - compliance(plastic_pressure), 0.0)
     start = jax.lax.stop_gradient(jnp.where(active, guess - guess_offset * x1, 0.0))
@@ -83,5 +88,4 @@ def frozen_solution(
 def elastic_stiffness(compliance: Compliance, contact, tolerance: float):
     """`Σ C_CC⁻¹ 1` on the contact set C, plastic points included: the tangent of a small unload,
     in which every point in contact moves with the surface (grid units)."""
-    ones = jnp.where(contact, 1.0, 0.0).astype(compliance.stiffness.dtype)
-    return jnp.sum(jnp.where(contact, _active_solve(compliance, contact, ones, jnp.zeros_like(ones), tolerance), 0.0))
+    return jnp.sum(jnp.where(contact, _unit_response(compliance, contact, tolerance), 0.0))
