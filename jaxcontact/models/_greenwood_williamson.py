@@ -115,14 +115,15 @@ class GreenwoodWilliamson(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
-        solve = self._separation_solver(s)
+        solve = self._separation_solver(summit_statistics(s))
         return lambda F_star: separated_point(solve(F_star))
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact in the families of `INTERFERENCE_EDGES`,
         in `t = ln ŵ` (ŵ the interference in units of σ_s)."""
-        solve = self._separation_solver(s)
-        log_eta, log_R, log_sigma = summit_statistics(s)
+        statistics = summit_statistics(s)
+        solve = self._separation_solver(statistics)
+        log_eta, log_R, log_sigma = statistics
 
         def one(F_star) -> SpotState:
             state = solve(F_star)
@@ -138,9 +139,10 @@ class GreenwoodWilliamson(AbstractContactModel):
 
         return one
 
-    def _separation_solver(self, s):
-        """`F* ↦ Separated`: the separation h (in σ_s) that carries the load, and the totals there."""
-        log_eta, log_R, log_sigma = summit_statistics(s)
+    def _separation_solver(self, statistics):
+        """`F* ↦ Separated`: the separation h (in σ_s) that carries the load, and the totals there,
+        for the summits' `statistics` (`summit_statistics`)."""
+        log_eta, log_R, log_sigma = statistics
         log_load_scale = math.log(4.0 / 3.0) + log_eta + 0.5 * log_R + 1.5 * log_sigma
         log_stiffness_scale = math.log(2.0) + log_eta + 0.5 * log_R + 0.5 * log_sigma
         log_area_scale = math.log(math.pi) + log_eta + log_R + log_sigma

@@ -124,14 +124,14 @@ class MeasuredAsperities(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
-        solve = self._separation_solver(s)
+        solve = self._separation_solver(self._table(s))
         return lambda F_star: separated_point(solve(F_star))
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact one interval of the table at a time, in
         `t = ln w*` from `w* = SPOT_FLOOR · (z_top − d)` (the summits below carry 1e-15 of a family's load)."""
-        solve = self._separation_solver(s)
         table = self._table(s)
+        solve = self._separation_solver(table)
 
         def one(F_star) -> SpotState:
             state = solve(F_star)
@@ -162,10 +162,9 @@ class MeasuredAsperities(AbstractContactModel):
         log_eta, log_R = jnp.log(self.density) + 2.0 * s.log_length, jnp.log(self.radius) - s.log_length
         return _Table(span, heights, pdf, log_eta, log_R)
 
-    def _separation_solver(self, s):
+    def _separation_solver(self, table: _Table):
         """`F* ↦ Separated`: the flat's separation d (in u) that carries the load, and the totals
-        there. J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u."""
-        table = self._table(s)
+        there, for the statistics of `_table`. J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u."""
         heights, pdf, log_span = table.heights, table.pdf, jnp.log(table.span)
         log_load_scale = math.log(4.0 / 3.0) + table.log_eta + 0.5 * table.log_R + 1.5 * log_span
         log_stiffness_scale = math.log(2.0) + table.log_eta + 0.5 * table.log_R + 0.5 * log_span
