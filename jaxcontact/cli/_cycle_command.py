@@ -51,8 +51,7 @@ def cmd_cycle(args) -> int:
     columns = [np.asarray(getattr(cycle, name)) for name in _FIELDS]
     n = len(amplitudes)
     rows = [
-        dict(zip(COLUMNS[:-1], (float(x[i]) for x in columns[:-1])))
-        | {"status": status_message(int(columns[-1][i])) if columns[-1][i] else "ok"}
+        dict(zip(COLUMNS[:-1], (float(x[i]) for x in columns[:-1]))) | {"status": status_message(int(columns[-1][i]))}
         for i in range(n)
     ]
     out = pathlib.Path(args.out)
