@@ -128,16 +128,16 @@ class AbstractLargestSpotModel(AbstractContactModel):
 
     @typing.final
     def spot_solver(self, s):
-        """The a_l solve, and at the state it finds the joint's spots (`AbstractJoint.spots`) and
-        their summed unloading stiffness."""
-        joint, solve = self.joint(s), self.point_solver(s)
+        """The a_l solve with the unloading stiffness of its state (`point_solver(s, unloading=True)`),
+        and there the joint's spots (`AbstractJoint.spots`)."""
+        joint, solve = self.joint(s), self.point_solver(s, unloading=True)
 
         def one(F_star) -> SpotState:
             point = solve(F_star)
             log_load = jnp.log(jnp.where(F_star > 0, F_star, 1.0))
-            unloading, breakdown = joint.unloading_stiffness(point.log_a_l, log_load)
             spots = joint.spots(point.log_a_l, log_load)
-            return SpotState(point.status, spots, unrolled_sum(unloading), breakdown)
+            unloading = unrolled_sum(point.response.regime_stiffness)
+            return SpotState(point.status, spots, unloading, point.response.breakdown)
 
         return one
 
