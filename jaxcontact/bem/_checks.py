@@ -1,5 +1,6 @@
 """The boundary-element solve's arguments: checked where concrete (`ValueError`), and where traced
-replaced by a solvable stand-in and flagged (`valid_problem`)."""
+replaced by a solvable stand-in and flagged (`valid_problem`, `stand_in_loads`); a point's status
+made honest (`checked_status`)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..numerics._validate import InputError, assigned, check_range, concrete
+from ..quantities import Status
 
 SMALLEST_GRID = 8
 # Looser, the iteration stops before the contact set settles: on a 256² rough surface at 2-95 %
@@ -63,3 +65,22 @@ def valid_problem(heights, size, modulus, hardness):
     size, modulus = jnp.where(ok, size, 1.0), jnp.where(ok, modulus, 1.0)
     hardness = None if hardness is None else jnp.where(ok, hardness, 1.0)
     return ok, heights, size, modulus, hardness
+
+
+def checked_status(status, stiffnesses, finite=()):
+    """`status` with each OK point whose `stiffnesses` are not finite and positive, or whose other
+    values `finite` are not finite, made `NOT_CONVERGED`: a number with status OK is a number."""
+    good = jnp.ones(jnp.shape(status), bool)
+    for value in stiffnesses:
+        good &= jnp.isfinite(value) & (value > 0)
+    for value in finite:
+        good &= jnp.isfinite(value)
+    return jnp.where((status == Status.OK) & ~good, Status.NOT_CONVERGED, status)
+
+
+def stand_in_loads(loads, default):
+    """The loads with every NaN or non-positive one replaced by the geometric mean of the valid ones
+    (`default` if none is): solved like the others, then flagged."""
+    valid = jnp.isfinite(loads) & (loads > 0)
+    mean = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid))
+    return jnp.where(valid, loads, jnp.where(jnp.any(valid), mean, default)), valid

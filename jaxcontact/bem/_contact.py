@@ -19,10 +19,11 @@ from ..models import CLOSED_INTERFACE
 from ..numerics._validate import check_range, check_strategy
 from ..quantities import Status
 from ._ccg import contact_cg
-from ._checks import check_arguments, check_iteration, valid_problem
-from ._operator import SUBSTRATES, AbstractSubstrate, Compliance, Periodic
+from ._checks import check_arguments, check_iteration, checked_status, stand_in_loads, valid_problem
+from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
+from ._problem import GridProblem
 from ._solver import secant_stiffness
-from ._tangent import frozen_solution
+from ._tangent import elastic_stiffness, frozen_solution
 
 # The iteration stops when every gap condition holds to this fraction of the heights' rms.
 DEFAULT_TOLERANCE = {np.dtype(np.float64): 1e-9, np.dtype(np.float32): 1e-5}
@@ -41,7 +42,8 @@ class ContactSolution(eqx.Module):
     NOT_CONVERGED, LOAD_OUT_OF_RANGE for a closed interface or a load beyond `hardness × area`,
     INVALID_LOAD); `iterations` of the constrained conjugate gradients (all solves of the load);
     `pressure` (Pa, loads × n × n)
-    where asked for, else None.
+    where asked for, else None; `tangential_stiffness` (N/m) where `poisson` is given, else None:
+    the full-stick tangential stiffness along the rows on the contact set (`_tangential`).
     """
 
     loads: Float[Array, " loads"]
@@ -54,6 +56,7 @@ class ContactSolution(eqx.Module):
     status: Int[Array, " loads"]
     iterations: Int[Array, " loads"]
     pressure: Float[Array, "loads n n"] | None
+    tangential_stiffness: Float[Array, " loads"] | None = None
 
 
 def solve(
@@ -63,6 +66,7 @@ def solve(
     loads: Float[ArrayLike, " loads"],
     *,
     hardness=None,
+    poisson=None,
     substrate: AbstractSubstrate = Periodic(),
     tolerance: float | None = None,
     max_iterations: int = 2000,
@@ -80,6 +84,9 @@ def solve(
     - `loads`: total normal loads, N, a 1-D array (solved in increasing order, each from the last
       one's pressure, and returned in the order given).
     - `hardness`: None (elastic), or the pressure cap H, Pa (perfectly plastic points flow at H).
+    - `poisson`: None, or Poisson's ratio ν in [0, 0.5) of two bodies of like material: also return
+      the tangential stiffness in full stick, every point in contact (plastic ones too) displaced
+      along the rows with the rigid body (the uncoupled tangential problem, docs/in-service.md).
     - `substrate`: `Periodic()` (the map repeats; ContactMechanics's `stiffness_q0 = 0`) or `Free()`
       (an isolated map on an infinite half-space; the grid is doubled internally).
     - `tolerance`: on every gap condition, as a fraction of the heights' rms, in (0, 1e-5] (default
@@ -115,42 +122,13 @@ def solve(
         tolerance = DEFAULT_TOLERANCE.get(np.dtype(dtype), 1e-5)
     arrays = tuple(jnp.asarray(x, dtype) for x in (heights, size, modulus, loads))
     cap = None if hardness is None else jnp.asarray(hardness, dtype)
+    nu = None
+    if poisson is not None:
+        check_range("poisson", poisson, 0.0, 0.5, low_open=False, meaning="Poisson's ratio of like materials")
+        nu = jnp.asarray(poisson, dtype)
     check_range("secant", secant, 0.0, 0.5, low_open=False)
     settings = (float(tolerance), int(max_iterations), bool(pressure), float(secant), bool(preconditioned))
-    return _solve(*arrays, cap, substrate, *settings)
-
-
-class GridProblem(eqx.Module):
-    """A map in grid units (`_operator`): its compliance, heights over `scale` (their rms, or 1 for a
-    flat map), the hardness cap, and the factors back to SI: a load in grid units times
-    `load_unit` is newtons, an offset times `scale` metres, a tangent times `stiffness_unit` N/m."""
-
-    compliance: Compliance
-    heights: Float[Array, "n n"]
-    cap: Float[ArrayLike, ""]
-    scale: Float[ArrayLike, ""]
-    load_unit: Float[ArrayLike, ""]
-    stiffness_unit: Float[ArrayLike, ""]
-    capped: bool = eqx.field(static=True)
-    preconditioned: bool = eqx.field(static=True, default=True)
-
-    @classmethod
-    def build(
-        cls, heights, size, modulus, hardness, substrate: AbstractSubstrate, preconditioned: bool = True
-    ) -> GridProblem:
-        """`hardness` None is the elastic contact (known before tracing: the iteration then has no
-        plastic branch to carry); `preconditioned`, the iteration's search (`_ccg.contact_cg`)."""
-        n = heights.shape[-1]
-        rms = jax.lax.stop_gradient(jnp.std(heights))
-        scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
-        spacing = size / n
-        if hardness is None:
-            cap = jnp.asarray(jnp.inf, heights.dtype)
-        else:
-            cap = hardness * spacing / (modulus * scale)
-        compliance = Compliance.build(n, substrate, heights.dtype)
-        unit = modulus * spacing
-        return cls(compliance, heights / scale, cap, scale, unit * scale, unit, hardness is not None, preconditioned)
+    return _solve(*arrays, cap, nu, substrate, *settings)
 
 
 def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterations: int) -> dict:
@@ -184,7 +162,12 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
         problem.compliance, heights, total_in, cap, active, plastic, found, state.offset, tolerance
     )
     gap = problem.compliance(pressure) - heights - offset
+    extra = {}
+    if problem.tangential is not None:
+        contact = jnp.where(degenerate, highest, found > 0)
+        extra["tangential_stiffness"] = elastic_stiffness(problem.tangential, contact, tolerance)
     return dict(
+        **extra,
         pressure=pressure,
         found=jax.lax.stop_gradient(found),
         offset=offset,
@@ -200,25 +183,6 @@ def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterati
             Status.OK,
         ).astype(jnp.int32),
     )
-
-
-def checked_status(status, stiffnesses, finite=()):
-    """`status` with each OK point whose `stiffnesses` are not finite and positive, or whose other
-    values `finite` are not finite, made `NOT_CONVERGED`: a number with status OK is a number."""
-    good = jnp.ones(jnp.shape(status), bool)
-    for value in stiffnesses:
-        good &= jnp.isfinite(value) & (value > 0)
-    for value in finite:
-        good &= jnp.isfinite(value)
-    return jnp.where((status == Status.OK) & ~good, Status.NOT_CONVERGED, status)
-
-
-def stand_in_loads(loads, default):
-    """The loads with every NaN or non-positive one replaced by the geometric mean of the valid ones
-    (`default` if none is): solved like the others, then flagged."""
-    valid = jnp.isfinite(loads) & (loads > 0)
-    mean = jnp.exp(jnp.mean(jnp.log(jnp.where(valid, loads, 1.0)), where=valid))
-    return jnp.where(valid, loads, jnp.where(jnp.any(valid), mean, default)), valid
 
 
 def warm_start(problem: GridProblem, previous, previous_total, total, weight):
@@ -263,9 +227,12 @@ def sweep_sides(problem: GridProblem, loads, sides, tolerance: float, max_iterat
 
 
 @eqx.filter_jit
-def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_iterations, with_pressure, step, pc):
+def _solve(heights, size, modulus, loads, hardness, nu, substrate, tolerance, max_iterations, with_pressure, step, pc):
     sound, heights, size, modulus, hardness = valid_problem(heights, size, modulus, hardness)
-    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc)
+    if nu is not None:
+        sound &= (nu >= 0) & (nu < 0.5)
+        nu = jnp.where(sound, nu, 0.3)
+    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc, nu)
     solved, valid = stand_in_loads(loads, 1e-4 * modulus * size * size)
     sides = (-step, 0.0, step) if step > 0 else (0.0,)
     # Each load and, for the secant, its neighbours e^(±step) F.
@@ -278,7 +245,9 @@ def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_it
         status = jnp.where(status == Status.OK, jnp.max(side["status"], axis=0), status)
         rise = jnp.where(status == Status.OK, side["offset"][2] - side["offset"][0], 1.0)
         secant = secant_stiffness(loads, step, rise * problem.scale)
-    status = checked_status(status, (out["stiffness"],) + (() if secant is None else (secant,)), (out["offset"],))
+    tangential = out.get("tangential_stiffness")
+    stiffnesses = tuple(k for k in (out["stiffness"], secant, tangential) if k is not None)
+    status = checked_status(status, stiffnesses, (out["offset"],))
     ok = status == Status.OK
     return ContactSolution(
         loads=loads,
@@ -291,4 +260,5 @@ def _solve(heights, size, modulus, loads, hardness, substrate, tolerance, max_it
         status=status,
         iterations=jnp.sum(side["iterations"], axis=0),
         pressure=out["pressure"] * (problem.load_unit / (size / heights.shape[0]) ** 2) if with_pressure else None,
+        tangential_stiffness=None if nu is None else jnp.where(ok, tangential * problem.stiffness_unit, jnp.nan),
     )

@@ -14,9 +14,10 @@ import jax.numpy as jnp
 from ..models import AbstractSweptModel, JointResponse, PointResult, without_single_spots
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
-from ._checks import check_iteration
-from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, stand_in_loads, sweep_sides
+from ._checks import check_iteration, checked_status, stand_in_loads
+from ._contact import DEFAULT_TOLERANCE, sweep_sides
 from ._operator import Periodic
+from ._problem import GridProblem
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
 from ._synthesis import synthesised_heights

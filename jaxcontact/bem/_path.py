@@ -19,9 +19,10 @@ from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..numerics._validate import InputError, check_strategy
 from ..quantities import Branch, Status, branches
-from ._checks import check_arguments, check_iteration, valid_problem
-from ._contact import DEFAULT_TOLERANCE, GridProblem, checked_status, contact_at, stand_in_loads, warm_start
+from ._checks import check_arguments, check_iteration, checked_status, stand_in_loads, valid_problem
+from ._contact import DEFAULT_TOLERANCE, contact_at, warm_start
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
+from ._problem import GridProblem
 from ._tangent import elastic_stiffness
 
 
