@@ -19,7 +19,9 @@ from ._fit import FitResult, fit
 
 
 def fit_resonance(preloads, frequencies, mass: float, scene: jc.Scene, params=("D", "G"), **kw) -> FitResult:
-    """Fit scene parameters to small-amplitude resonance frequencies (Hz) measured at preloads (N).
+    """Fit scene parameters to small-amplitude resonance frequencies (Hz) measured at preloads (N),
+    read as the joint's loading tangent (`resonance_frequency(..., stiffness=Loading())`); a fit to
+    the dynamic stiffness, which a vibrating joint pressed once has, is not built.
 
     **Arguments:** as `fit`, with `frequencies` in Hz and `mass` the vibrating mass in kg (> 0).
     **Returns:** a `FitResult` (its residuals are in ln K = 2 ln f + const).

@@ -1,4 +1,5 @@
-"""The driven mass on the joint (diffrax), fitting D and G from resonance against preload, and the command."""
+"""The driven mass on the joint (diffrax) about its preload, by its unloading (dynamic) law and by its
+loading law, fitting D and G from resonance against preload, and the command."""
 
 import json
 
@@ -7,7 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from helpers import ROOT, TABLE1, make_scene
+from helpers import ROOT, TABLE1, TABLE1_WITHOUT_INTERACTION, make_scene
 
 import jaxcontact as jc
 from jaxcontact import fitting
@@ -28,8 +29,8 @@ def drive(f, zeta=0.05, amplitude=0.2):
     return Drive(mass=MASS, damping=2 * zeta * MASS * 2 * np.pi * f, preload=PRELOAD, amplitude=amplitude, frequency=f)
 
 
-def test_linear_resonance_is_sqrt_K_over_m(dynamics_scene, linear_frequency):
-    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
+def test_linear_resonance_is_sqrt_K_over_m_with_the_dynamic_stiffness(dynamics_scene, linear_frequency):
+    K = float(jc.dynamic_stiffness(dynamics_scene, PRELOAD).stiffness)
     np.testing.assert_allclose(linear_frequency, np.sqrt(K / MASS) / (2 * np.pi), rtol=1e-13)
 
 
@@ -46,12 +47,14 @@ def test_small_amplitude_response_peaks_at_the_linear_frequency(dynamics_scene, 
     # Damped peak of the linear oscillator: sqrt(1 - 2ζ²) = 0.9975 of the natural frequency.
     assert abs(peak - 1.0) < 0.01, peak
     # ... and its height is the linear one, F1 / (K 2ζ sqrt(1-ζ²)).
-    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
+    K = float(jc.dynamic_stiffness(dynamics_scene, PRELOAD).stiffness)
     np.testing.assert_allclose(np.exp(A.max()), 0.2 / K / (2 * 0.05), rtol=2e-3)
 
 
-def test_time_history_is_consistent(dynamics_scene, linear_frequency):
-    response = simulate(dynamics_scene, drive(linear_frequency, amplitude=100.0), periods=20)
+def test_time_history_by_the_loading_law_is_consistent(dynamics_scene):
+    law = jc.Loading()
+    f, _ = resonance_frequency(dynamics_scene, MASS, jnp.array([PRELOAD]), stiffness=law)
+    response = simulate(dynamics_scene, drive(float(f[0]), amplitude=100.0), stiffness=law, periods=20)
     assert int(response.status) == 0
     F = np.asarray(response.contact_force)
     assert np.all(F > 0)  # a large, still closed, oscillation
@@ -61,6 +64,28 @@ def test_time_history_is_consistent(dynamics_scene, linear_frequency):
     dF = np.gradient(F, t)
     K = np.asarray(jc.solve(dynamics_scene, jnp.asarray(F)).stiffness)
     np.testing.assert_allclose(dF[5:-5], (K * v)[5:-5], rtol=2e-2, atol=2e-2 * np.abs(K * v).max())
+
+
+def test_the_unloading_law_of_a_flowing_model_is_linear_about_the_preload(dynamics_scene, linear_frequency):
+    # The seed model's spots flow: about the preload the contact force moves with K_u(F0) alone.
+    response = simulate(dynamics_scene, drive(linear_frequency, amplitude=100.0), periods=20)
+    K = float(jc.dynamic_stiffness(dynamics_scene, PRELOAD).stiffness)
+    force = np.asarray(response.contact_force)
+    np.testing.assert_allclose(force - PRELOAD, K * np.asarray(response.x), rtol=1e-6, atol=1e-6 * np.ptp(force))
+
+
+def test_a_fully_plastic_joint_resonates_by_its_dynamic_stiffness():
+    # H = 3 GPa on the D = 1.5 surface: every spot flows, the loading K is 0, the unloading one is not.
+    scene = make_scene(**dict(TABLE1_WITHOUT_INTERACTION, D=1.5, G=1e-12, l_min=1e-6, H=3e9, area=1e-4))
+    loading, status = resonance_frequency(scene, MASS, jnp.array([PRELOAD]), stiffness=jc.Loading())
+    assert (int(status[0]), float(loading[0])) == (0, 0.0)
+    unloading, status = resonance_frequency(scene, MASS, jnp.array([PRELOAD]))
+    assert int(status[0]) == 0 and float(unloading[0]) > 0
+
+
+def test_a_tangential_law_is_refused_for_a_normal_vibration(dynamics_scene):
+    with pytest.raises(ValueError, match="stiffness = TangentialStick"):
+        simulate(dynamics_scene, drive(1e3), stiffness=jc.TangentialStick())
 
 
 def test_gradient_of_steady_amplitude(table1_without_interaction):
@@ -96,7 +121,8 @@ def test_drive_validation(kw, message):
 
 def test_fit_D_and_G_from_resonance_against_preload(dynamics_scene):
     preloads = np.geomspace(1e-10, 1e-4, 31) * TABLE1["E"] * TABLE1["area"]
-    f, status = resonance_frequency(dynamics_scene, MASS, preloads)
+    # `fit_resonance` fits the loading tangent: resonances of the loading law.
+    f, status = resonance_frequency(dynamics_scene, MASS, preloads, stiffness=jc.Loading())
     assert np.all(np.asarray(status) == 0)
     start = make_scene(**dict(TABLE1, D=1.55, G=1e-9))
     exact = fitting.fit_resonance(preloads, np.asarray(f), MASS, start)
@@ -119,7 +145,7 @@ def test_the_command_on_its_embedded_scene(dynamics_scene, tmp_path, capsys):
     )
     assert main(["dynamics", str(scene), "--out", str(tmp_path), "--format", "json", "--no-progress"]) == 0
     payload = json.loads(capsys.readouterr().out)
-    K = float(jc.solve(dynamics_scene, PRELOAD).stiffness)
+    K = float(jc.dynamic_stiffness(dynamics_scene, PRELOAD).stiffness)
     np.testing.assert_allclose(payload["linear_resonance_Hz"], np.sqrt(K / MASS) / (2 * np.pi), rtol=1e-12)
     assert len(payload["frequency_response"]) == 8
     assert len(payload["resonance_vs_preload"]) == 31

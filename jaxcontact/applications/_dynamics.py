@@ -11,6 +11,14 @@ starting at rest in equilibrium (x = v = 0, F_c = F0). It is integrated in dimen
     du/dτ = w,   dw/dτ = sin(r τ) - f - 2ζ w,   df/dτ = K(F0 + F1 f)/K(F0) · w,
 
 with r = Ω/ω0 and 2ζ = c/(m ω0). The joint must stay closed: F1 < F0 (no separation).
+
+Which K (`stiffness`, docs/in-service.md): `Unloading()` (the default) is the joint about a preload
+reached by loading. A model that unloads as it loads (GW, Persson, measured Hertz summits, the
+elastic BEM) follows its loading law K(F_c), exact at any amplitude below the preload; a model
+whose spots flow (the seed model, JZZ) vibrates elastically about its state at the preload with
+its initial unloading tangent K_u(F0), a linear law, right for amplitudes small against the
+preload (its unloading curve beyond the tangent is not modelled). `Loading()` follows the loading
+law K(F_c) reversibly whatever the model: the behaviour of jaxcontact 0.4.
 The steady-state amplitude is the first Fourier coefficient of x at Ω over the last periods,
 a smooth (differentiable) functional of the response.
 """
@@ -25,8 +33,9 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float, Int
 
-from ..core import Scene, point_solver, prepare
+from ..core import Outputs, Scene, point_solver, prepare, solve
 from ..numerics._validate import InputError, as_array, check_range, concrete
+from ..physics import AbstractStiffness, Loading, Unloading
 from ..quantities import Scales, Status
 from ..quantities._parameters import Parameter
 
@@ -64,7 +73,8 @@ class Drive(eqx.Module):
 
 class Response(eqx.Module):
     """Time history of the dynamic scene: t (s), x (m, from equilibrium), v (m/s), contact force (N);
-    `linear_frequency` = sqrt(K(F0)/m)/(2π) (Hz); `status` of the preload point (0 = ok)."""
+    `linear_frequency` = sqrt(K(F0)/m)/(2π) (Hz) with the law's K (the dynamic stiffness by
+    default); `status` of the preload point (0 = ok)."""
 
     t: Float[Array, " n"]
     x: Float[Array, " n"]
@@ -74,21 +84,34 @@ class Response(eqx.Module):
     status: Int[Array, ""]
 
 
-def _stiffness_ratio(scene: Scene, preload):
-    """`F ↦ K(F)/K(F0)` and K(F0) in N/m, sharing one per-scene setup."""
+def check_law(stiffness) -> None:
+    """`ValueError` unless `stiffness` is a normal law of the joint: `Loading()` or `Unloading()`."""
+    if not isinstance(stiffness, (Loading, Unloading)):
+        raise InputError(
+            f"stiffness = {stiffness!r} must be Unloading() (the joint about its preload) or Loading() "
+            "(the reversible loading law): a normal vibration has no tangential law"
+        )
+
+
+def _stiffness_ratio(scene: Scene, preload, stiffness: AbstractStiffness):
+    """`F ↦ K(F)/K(F0)` and K(F0) in N/m of the law the contact force follows (module docstring),
+    sharing one per-scene setup."""
     scales = Scales.of(scene)
-    one_point = point_solver(scene)
+    reversible = isinstance(stiffness, Loading) or scene.model.unloads_as_it_loads()
+    one_point = point_solver(scene, Loading() if reversible else stiffness)
     reference = one_point(preload / scales.load)
     K0_star = reference.stiffness_star
 
     def ratio(F):
+        if not reversible:
+            return jnp.ones_like(K0_star)
         return one_point(F / scales.load).stiffness_star / K0_star
 
     return ratio, K0_star * scales.stiffness, reference.status
 
 
-def _solve(scene: Scene, drive: Drive, periods: int, samples_per_period: int, rtol: float, max_steps: int, window: int):
-    ratio, K0, status = _stiffness_ratio(scene, drive.preload)
+def _solve(scene, drive: Drive, stiffness, periods: int, samples_per_period: int, rtol, max_steps: int, window: int):
+    ratio, K0, status = _stiffness_ratio(scene, drive.preload, stiffness)
     omega0 = jnp.sqrt(K0 / drive.mass)
     r = 2 * jnp.pi * drive.frequency / omega0
     two_zeta = drive.damping / (drive.mass * omega0)
@@ -139,14 +162,15 @@ def _tolerance(dtype, rtol):
 
 
 @eqx.filter_jit
-def _simulate(scene, drive, periods, samples_per_period, rtol, max_steps):
-    return _solve(scene, drive, periods, samples_per_period, rtol, max_steps, window=periods)
+def _simulate(scene, drive, stiffness, periods, samples_per_period, rtol, max_steps):
+    return _solve(scene, drive, stiffness, periods, samples_per_period, rtol, max_steps, window=periods)
 
 
 def simulate(
     scene: Scene,
     drive: Drive,
     *,
+    stiffness: AbstractStiffness = Unloading(),
     periods: int = 40,
     samples_per_period: int = 32,
     rtol: float | None = None,
@@ -154,10 +178,17 @@ def simulate(
 ) -> Response:
     """Time history of the driven joint over `periods` drive periods (`samples_per_period` saved each).
 
-    **Returns:** a `Response`.
+    **Arguments:** the joint's `scene`; the `drive`; `stiffness`, the law the contact force follows
+    (module docstring): `Unloading()`, the joint about a preload reached by loading, or `Loading()`,
+    the reversible loading law; `periods`, `samples_per_period`; the integrator's `rtol` (default
+    1e-9 in float64, 1e-5 in float32) and `max_steps`.
+
+    **Returns:** a `Response`. **Raises:** `ValueError` for another `stiffness`.
     """
+    check_law(stiffness)
     scene, drive = _prepare(scene, drive)
-    return _simulate(scene, drive, periods, samples_per_period, _tolerance(scene.area.dtype, rtol), max_steps)
+    tolerance = _tolerance(scene.area.dtype, rtol)
+    return _simulate(scene, drive, stiffness, periods, samples_per_period, tolerance, max_steps)
 
 
 def _fourier_amplitude(response: Response, drive: Drive):
@@ -171,8 +202,8 @@ def _fourier_amplitude(response: Response, drive: Drive):
 
 
 @eqx.filter_jit
-def _steady_amplitude(scene, drive, periods, window, samples_per_period, rtol, max_steps):
-    response = _solve(scene, drive, periods, samples_per_period, rtol, max_steps, window)
+def _steady_amplitude(scene, drive, stiffness, periods, window, samples_per_period, rtol, max_steps):
+    response = _solve(scene, drive, stiffness, periods, samples_per_period, rtol, max_steps, window)
     return _fourier_amplitude(response, drive), response.status
 
 
@@ -180,6 +211,7 @@ def steady_amplitude(
     scene: Scene,
     drive: Drive,
     *,
+    stiffness: AbstractStiffness = Unloading(),
     periods: int = 80,
     window: int = 10,
     samples_per_period: int = 32,
@@ -189,33 +221,27 @@ def steady_amplitude(
     """Steady-state displacement amplitude (m) at the drive frequency, and the status.
 
     The first Fourier coefficient of x(t) over the last `window` of `periods` periods (the
-    transient has decayed by exp(-2π ζ (periods - window)) by then). Differentiable with
-    respect to every float field of the scene and of the drive.
+    transient has decayed by exp(-2π ζ (periods - window)) by then), with the law `stiffness` (as
+    `simulate`'s). Differentiable with respect to every float field of the scene and of the drive.
     """
+    check_law(stiffness)
     scene, drive = _prepare(scene, drive)
-    return _steady_amplitude(
-        scene, drive, periods, window, samples_per_period, _tolerance(scene.area.dtype, rtol), max_steps
-    )
+    tolerance = _tolerance(scene.area.dtype, rtol)
+    return _steady_amplitude(scene, drive, stiffness, periods, window, samples_per_period, tolerance, max_steps)
 
 
 def frequency_response(scene: Scene, drive: Drive, frequencies, **kw):
-    """Steady amplitudes (m) and statuses over drive frequencies (Hz), vmapped."""
+    """Steady amplitudes (m) and statuses over drive frequencies (Hz), vmapped; `kw` as `steady_amplitude`'s."""
     scene, drive = _prepare(scene, drive)
     frequencies = jnp.asarray(frequencies, scene.area.dtype)
     return jax.vmap(lambda f: steady_amplitude(scene, eqx.tree_at(lambda d: d.frequency, drive, f), **kw))(frequencies)
 
 
-@eqx.filter_jit
-def _linear_resonance(scene, mass, preloads):
-    scales = Scales.of(scene)
-    one_point = point_solver(scene)
-    points = jax.vmap(one_point)(preloads / scales.load)
-    K = points.stiffness_star * scales.stiffness
-    return jnp.sqrt(K / mass) / (2 * math.pi), points.status
-
-
-def resonance_frequency(scene: Scene, mass: float, preloads):
-    """Small-amplitude resonance frequency sqrt(K(F0)/m)/(2π) (Hz) against preload F0 (N), and statuses."""
+def resonance_frequency(scene: Scene, mass: float, preloads, *, stiffness: AbstractStiffness = Unloading()):
+    """Small-amplitude resonance frequency sqrt(K(F0)/m)/(2π) (Hz) against preload F0 (N), and
+    statuses: K the dynamic stiffness about each preload (`jc.dynamic_stiffness`), or with
+    `stiffness=Loading()` the loading tangent there."""
     check_range("mass", mass, 0.0, meaning="kg")
-    scene, preloads = prepare(scene, preloads)
-    return _linear_resonance(scene, jnp.asarray(mass, preloads.dtype), preloads)
+    check_law(stiffness)
+    solution = solve(scene, preloads, outputs=Outputs(regime_shares=False, stiffness=stiffness))
+    return jnp.sqrt(solution.stiffness / mass) / (2 * math.pi), solution.status

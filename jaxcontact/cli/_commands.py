@@ -180,10 +180,21 @@ def cmd_approach(args) -> int:
     return 0
 
 
+def add_dynamics_options(p) -> None:
+    p.add_argument(
+        "--stiffness",
+        choices=("unloading", "loading"),
+        default="unloading",
+        help="the joint's law about the preload: unloading (default: the dynamic stiffness of a joint "
+        "pressed once, docs/in-service.md) or loading (the reversible loading law)",
+    )
+
+
 def cmd_dynamics(args) -> int:
     import numpy as np
 
     from ..applications import Drive, frequency_response, map_in_chunks, resonance_frequency, simulate
+    from ..core._settings import STIFFNESSES
     from ..quantities import status_message
     from ._report import write_csv
     from ._scenefile import DYNAMICS_SCENE, load_scene
@@ -191,27 +202,33 @@ def cmd_dynamics(args) -> int:
     spec = load_scene(args.scene, default=DYNAMICS_SCENE)
     _require(spec, "dynamics", "dynamics")
     d = spec.dynamics
-    f_linear, status = resonance_frequency(spec.scene, d.mass, np.array([d.preload]))
+    law = STIFFNESSES[args.stiffness]()
+    f_linear, status = resonance_frequency(spec.scene, d.mass, np.array([d.preload]), stiffness=law)
     f_linear, status = float(f_linear[0]), int(status[0])
     if status != 0:
         raise CommandError(
             f"the joint has no valid stiffness at the preload {d.preload:g} N ({status_message(status)})"
         )
+    if not f_linear > 0:
+        raise CommandError(
+            f"the joint's {law.name} stiffness at the preload {d.preload:g} N is 0 (every spot flows): "
+            "its dynamic stiffness is --stiffness unloading"
+        )
     damping = d.damping if d.damping is not None else 2 * d.damping_ratio * d.mass * 2 * np.pi * f_linear
     drive = Drive(
         mass=d.mass, damping=damping, preload=d.preload, amplitude=d.amplitude, frequency=d.frequency or f_linear
     )
-    history = simulate(spec.scene, drive, periods=20)
+    history = simulate(spec.scene, drive, stiffness=law, periods=20)
     sweep_hz = np.linspace(*d.sweep, d.sweep_count) * f_linear
     amplitudes, statuses = map_in_chunks(
-        lambda f: frequency_response(spec.scene, drive, f),
+        lambda f: frequency_response(spec.scene, drive, f, stiffness=law),
         sweep_hz,
         chunk=8,
         progress=args.progress,
         desc="frequency sweep",
     )
     peak = int(np.nanargmax(amplitudes))
-    f_res, res_status = (np.asarray(x) for x in resonance_frequency(spec.scene, d.mass, spec.loads))
+    f_res, res_status = (np.asarray(x) for x in resonance_frequency(spec.scene, d.mass, spec.loads, stiffness=law))
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(
@@ -241,6 +258,7 @@ def cmd_dynamics(args) -> int:
         "preload_N": d.preload,
         "amplitude_N": d.amplitude,
         "damping_N_s_per_m": damping,
+        "stiffness": law.name,
         "linear_resonance_Hz": f_linear,
         "sweep_peak_Hz": float(sweep_hz[peak]),
         "peak_amplitude_m": float(amplitudes[peak]),
@@ -250,7 +268,8 @@ def cmd_dynamics(args) -> int:
     }
     text = (
         f"{spec.title}\nmass {d.mass:g} kg, preload {d.preload:g} N, drive {d.amplitude:g} N, "
-        f"damping {damping:.4g} N s/m\nlinear resonance sqrt(K(F0)/m)/2π = {f_linear:.6g} Hz; "
+        f"damping {damping:.4g} N s/m\nthe joint's {law.name} law: linear resonance sqrt(K(F0)/m)/2π = "
+        f"{f_linear:.6g} Hz; "
         f"sweep peak at {sweep_hz[peak]:.6g} Hz, amplitude {amplitudes[peak]:.4g} m\n"
         + "\n".join(f"wrote {f}" for f in files)
     )

@@ -16,7 +16,7 @@ import traceback
 
 from ..numerics._compat import avoid_host_callbacks_in_checks
 from ..numerics._validate import InputError, MissingExtraError, command_line_spelling
-from ._commands import cmd_approach, cmd_dynamics, cmd_run
+from ._commands import add_dynamics_options, cmd_approach, cmd_dynamics, cmd_run
 from ._compare_commands import cmd_compare
 from ._compare_table import DEFAULT_COMPARE_SCENE, add_compare_options
 from ._cycle_command import add_cycle_options, cmd_cycle
@@ -127,7 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
         "jaxcontact-out/cycle",
     )
     add_cycle_options(p)
-    scene_command(
+    p = scene_command(
         "dynamics",
         "a driven mass on the joint: time history, frequency response, resonance against "
         "preload (scenes with [dynamics])",
@@ -135,6 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
         "jaxcontact-out/dynamics",
         "table1_dynamics.toml",
     )
+    add_dynamics_options(p)
     p = scene_command(
         "compare",
         "every model beside an elastic boundary-element reference on synthesised (or, with "

@@ -22,7 +22,7 @@ from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
 from ..numerics import LoadsLike
 from ..numerics._elementwise import unrolled_sum
-from ..physics import TangentialStick, Unloading
+from ..physics import AbstractStiffness, Loading, TangentialStick, Unloading
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
 from ..quantities._domain import PARAMETERS, all_valid, scene_fields, valid_fields
@@ -64,15 +64,25 @@ def _flagged(guarded: Scene, in_domain, build):
     return flagged
 
 
-def point_solver(scene: Scene):
+def point_solver(scene: Scene, stiffness: AbstractStiffness = Loading()):
     """Set up the load-controlled solve once per scene; returns `F* ↦ PointResult` for one load.
 
     Everything that does not depend on the load (the joint's constants, the Wang–Komvopoulos ψ,
     `F_t` at the kinks that bracket each piece) is computed here, so that callers that evaluate
     K(F) many times (`approach`, `dynamics`) pay for it once. Points of a scene whose (traced)
-    parameters are outside their domain get `Status.INVALID_PARAMETERS`.
+    parameters are outside their domain get `Status.INVALID_PARAMETERS`. With
+    `stiffness=Unloading()` each point's stiffness is the initial unloading tangent of the state
+    its load reaches on loading (`solve`'s `Outputs(stiffness=Unloading())`); only the normal
+    stiffnesses (`stiffness.unloading` decides which) are points' own.
     """
-    return _flagged(*within_domain(scene), type(scene.model).point_solver)
+    if not stiffness.unloading:
+        return _flagged(*within_domain(scene), type(scene.model).point_solver)
+    curve = _flagged(*within_domain(scene), functools.partial(model_curve_solver, unloading=True))
+
+    def one_point(F_star) -> PointResult:
+        return jax.tree.map(lambda x: x[0], curve(jnp.reshape(F_star, (1,))))
+
+    return one_point
 
 
 def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
