@@ -107,11 +107,13 @@ _LAZY = (
     "Approach",
     "Drive",
     "InterfaceLaw",
+    "LoadPath",
     "approach",
     "approach_quadrature",
     "frequency_response",
     "interface_law",
     "resonance_frequency",
+    "solve_path",
     "simulate",
     "steady_amplitude",
 )

@@ -101,6 +101,7 @@ LONGEST_FIRST = (
     "test_api.py",
     "test_bem_path.py",
     "test_bem_tangential.py",
+    "test_load_path.py",
     "test_tangential_cycle.py",
     "test_in_service.py",
     "test_measured_asperities.py",

@@ -42,7 +42,7 @@ def sphere():
 
 def test_each_point_is_on_the_branch_its_load_reaches(sphere):
     _, path = sphere
-    assert np.asarray(path.branch).tolist() == [B.LOADING] * 3 + [B.UNLOADING] * 2 + [B.RELOADING] + [B.LOADING] * 2
+    assert np.asarray(path.branch).tolist() == [B.LOADING] * 3 + [B.UNLOADING] * 2 + [B.RELOADING] * 2 + [B.LOADING]
 
 
 def test_the_sphere_flows_on_loading(sphere):

@@ -6,6 +6,7 @@ from ._approach_sum import Approach, approach_quadrature, approach_star
 from ._chunks import CHUNK, map_in_chunks, solve_sweep
 from ._fe_tables import interface_csv, pressure_overclosure, stick_friction
 from ._interface import InterfaceLaw, interface_law
+from ._path import LoadPath, solve_path
 from ._sharded_sweep import SweepResult, sweep
 
 # The applications that integrate with diffrax are imported when first used: diffrax's import
@@ -26,6 +27,8 @@ __all__ = [
     "approach_quadrature",
     "approach_star",
     "InterfaceLaw",
+    "LoadPath",
+    "solve_path",
     "interface_law",
     "pressure_overclosure",
     "stick_friction",

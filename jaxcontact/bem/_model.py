@@ -11,12 +11,13 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..models import AbstractSweptModel, JointResponse, PointResult, without_single_spots
+from ..models import AbstractSweptModel, JointResponse, PathPoints, PointResult, without_single_spots
 from ..numerics._validate import InputError, check_range
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration, checked_status, stand_in_loads
 from ._contact import DEFAULT_TOLERANCE, sweep_sides
 from ._operator import Periodic
+from ._path import solve_path_grid
 from ._problem import GridProblem
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
@@ -92,10 +93,38 @@ class BEM(AbstractSweptModel):
         dtype = jnp.result_type(1.0)
         return self._heights(nondimensionalise(scene), dtype) * jnp.sqrt(jnp.asarray(scene.area, dtype))
 
+    def _resolved(self, s):
+        """Whether l_min spans `PIXELS_PER_L_MIN` grid spacings (else every point is flagged)."""
+        return 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
+
+    def path_solver(self, s):
+        dtype = jnp.result_type(s.D)
+        heights = self._heights(s, dtype)
+        hardness = jnp.exp(s.log_hardness) if self.plastic else None
+        tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
+        settings = (Periodic(), tolerance, self.max_iterations, self.preconditioned)
+
+        def follow(F_star) -> PathPoints:
+            # One realisation after another, as `sweep_solver`'s capped curves.
+            paths = jax.lax.map(lambda h: solve_path_grid(h, 1.0, 1.0, F_star, hardness, *settings), heights)
+            status = jnp.where(self._resolved(s), jnp.max(paths.status, axis=0), Status.INVALID_PARAMETERS)
+            ok = status == Status.OK
+            mean = lambda x: jnp.where(ok, jnp.mean(x, axis=0), jnp.nan)  # noqa: E731
+            return PathPoints(
+                approach_star=mean(paths.approach),
+                stiffness_star=mean(paths.stiffness),
+                unloading_star=mean(paths.unloading_stiffness),
+                real_area_star=jnp.mean(paths.contact_fraction, axis=0),
+                status=status.astype(jnp.int32),
+                residual_star=jnp.where(jnp.all(ok), jnp.mean(paths.residual_approach), jnp.nan),
+            )
+
+        return follow
+
     def sweep_solver(self, s):
         dtype = jnp.result_type(s.D)
         heights = self._heights(s, dtype)
-        resolved = 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
+        resolved = self._resolved(s)
         hardness = jnp.exp(s.log_hardness) if self.plastic else None
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
         build = GridProblem.build

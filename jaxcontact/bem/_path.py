@@ -93,8 +93,8 @@ def solve_path(
     return _solve_path(*arrays, cap, substrate, float(tolerance), int(max_iterations), preconditioned)
 
 
-@eqx.filter_jit
-def _solve_path(heights, size, modulus, path, hardness, substrate, tolerance, max_iterations, pc):
+def solve_path_grid(heights, size, modulus, path, hardness, substrate, tolerance, max_iterations, pc) -> PathSolution:
+    """`solve_path` on arrays of one dtype with its settings checked, traceable (the BEM model's path)."""
     sound, heights, size, modulus, hardness = valid_problem(heights, size, modulus, hardness)
     problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc)
     loads, valid = stand_in_loads(path, 1e-4 * modulus * size * size)
@@ -154,3 +154,6 @@ def _solve_path(heights, size, modulus, path, hardness, substrate, tolerance, ma
         residual_approach=jnp.where(sound & jnp.all(ok), residual, jnp.nan),
         heights=jnp.where(sound, flattened * scale, jnp.nan),
     )
+
+
+_solve_path = eqx.filter_jit(solve_path_grid)

@@ -7,6 +7,7 @@ from ._base import (
     AbstractContactModel,
     AbstractSweptModel,
     JointResponse,
+    PathPoints,
     PointResult,
     without_single_spots,
 )
@@ -35,6 +36,7 @@ __all__ = [
     "GreenwoodWilliamson",
     "INTERACTIONS",
     "JointResponse",
+    "PathPoints",
     "SpotFamilies",
     "SpotState",
     "SummitCount",

@@ -130,6 +130,20 @@ def _named_choices(module: eqx.Module) -> dict[str, str]:
     return choices
 
 
+class PathPoints(eqx.Module):
+    """A swept model's contact along a load path, dimensionless (`F* = F/(E A_a)`, lengths in
+    `sqrt(A_a)`; leading axis the path's points): `approach_star` relative to the first point,
+    `stiffness_star` on the branch travelled, `unloading_star` of a small unload, `real_area_star`
+    (A_r/A_a), `status`, and `residual_star`, the approach left after a full unload."""
+
+    approach_star: Float[Array, " points"]
+    stiffness_star: Float[Array, " points"]
+    unloading_star: Float[Array, " points"]
+    real_area_star: Float[Array, " points"]
+    status: Int[Array, " points"]
+    residual_star: Float[Array, ""]
+
+
 class AbstractSweptModel(AbstractContactModel):
     """A model whose loads are cheaper solved together, in one sweep, each from the last one's
     solution (the boundary-element contact): it writes `sweep_solver`; `point_solver` is a sweep
@@ -138,6 +152,11 @@ class AbstractSweptModel(AbstractContactModel):
     @abc.abstractmethod
     def sweep_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
         """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis)."""
+
+    @abc.abstractmethod
+    def path_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " points"]], PathPoints]:
+        """`F*` along a load path (1-D, in the order applied) ↦ its `PathPoints`, with the model's
+        memory of the path (`jaxcontact.solve_path`)."""
 
     @typing.final
     def point_solver(self, s):

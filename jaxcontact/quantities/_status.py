@@ -72,9 +72,10 @@ def status_message(code: int | np.integer | Int[ArrayLike, ""]) -> str:
 
 
 class Branch(enum.IntEnum):
-    """Which branch of a load path a point lies on (`bem.solve_path`): reached by loading beyond
-    every earlier load (`LOADING`, where plastic flow can occur), by unloading (`UNLOADING`), or by
-    loading again below the largest earlier load (`RELOADING`); the last two are elastic."""
+    """Which branch of a load path a point lies on (`solve_path`, `bem.solve_path`): reached by
+    loading beyond every earlier load (`LOADING`, where plastic flow can occur), by unloading
+    (`UNLOADING`), or by loading again up to the largest earlier load (`RELOADING`); the last two
+    are elastic."""
 
     LOADING = 0
     UNLOADING = 1
@@ -82,10 +83,13 @@ class Branch(enum.IntEnum):
 
 
 def branches(path: Float[Array, " points"]) -> Int[Array, " points"]:
-    """Each point's `Branch`: loading where its load is at least every earlier one, unloading where
-    it is below the last one, reloading otherwise (above the last, below the largest earlier one)."""
+    """Each point's `Branch`: loading at the first point and where a load exceeds every earlier one,
+    unloading where it is below the last one, reloading otherwise. A load equal to the largest
+    earlier one is reloading: the state is the one left there, and its tangent the elastic one
+    reached from below (at a kink of the path's curve, whose loading side begins only beyond it)."""
     previous = jnp.concatenate([path[:1], path[:-1]])
     peak = jnp.concatenate([path[:1], jax.lax.cummax(path)[:-1]])
-    return jnp.select([path >= peak, path < previous], [Branch.LOADING, Branch.UNLOADING], Branch.RELOADING).astype(
+    loading = (jnp.arange(path.shape[0]) == 0) | (path > peak)
+    return jnp.select([loading, path < previous], [Branch.LOADING, Branch.UNLOADING], Branch.RELOADING).astype(
         jnp.int32
     )
