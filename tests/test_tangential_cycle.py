@@ -388,11 +388,11 @@ def test_the_cycle_command_reads_friction_from_the_scene_file(tmp_path, capsys):
     assert (payload["mu"], payload["macroslip_force_N"]) == (0.2, 0.2 * 22.0)
 
 
-def test_the_cycle_command_without_a_friction_coefficient_says_so(tmp_path, capsys):
+def test_the_cycle_command_without_a_friction_coefficient_or_a_path_says_so(tmp_path, capsys):
     from jaxcontact.cli import main
 
     assert main(["cycle", "--out", str(tmp_path)]) == 2
-    assert "no friction coefficient: give --mu MU or [friction] mu in the scene file" in capsys.readouterr().err
+    assert "nothing to cycle: give --mu MU ([friction] mu) for friction loops" in capsys.readouterr().err
 
 
 def test_a_scene_files_bad_friction_coefficient_is_refused_by_name(tmp_path, capsys):

@@ -1,4 +1,5 @@
-"""`jaxcontact cycle`: the joint's friction loops about a preload (`jc.tangential_cycle`), as CSV and a plot."""
+"""`jaxcontact cycle`: the joint's friction loops about a preload (`jc.tangential_cycle`) and its normal
+load path (`jc.solve_path`), as CSV and plots."""
 
 from __future__ import annotations
 
@@ -25,8 +26,27 @@ def cmd_cycle(args) -> int:
     spec = load_scene(args.scene)
     scene, friction = spec.scene, spec.friction
     mu = args.mu if args.mu is not None else None if friction is None else friction.mu
-    if mu is None:
-        raise CommandError("no friction coefficient: give --mu MU or [friction] mu in the scene file")
+    loads = args.path or spec.path
+    if mu is None and loads is None:
+        raise CommandError(
+            "nothing to cycle: give --mu MU ([friction] mu) for friction loops, or --path F1 F2 ... ([path] loads) "
+            "for a normal load path"
+        )
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if loads is not None:
+        if len(loads) < 2 or not all(0 < F < float("inf") for F in loads):
+            raise CommandError(f"--path {' '.join(f'{F:g}' for F in loads)} must be at least two loads (N) > 0")
+        from ._path_command import COLUMNS as PATH_COLUMNS
+        from ._path_command import run_path
+
+        path_rows, path_files, path_text = run_path(spec, loads, out)
+        path_text = f"{spec.title}: {path_text}\n\n" + format_table(path_rows, PATH_COLUMNS)
+        if mu is None:
+            text = path_text + "".join(f"\nwrote {f}" for f in path_files)
+            payload = {"title": spec.title, "path": path_rows, "files": path_files}
+            print_result(payload, args.format, text)
+            return 0
     if not 0 < mu < float("inf"):
         raise CommandError(f"--mu {mu:g} must be a friction coefficient > 0")
     preload = args.preload or (friction.preload if friction and friction.preload else _middle(spec.loads))
@@ -54,8 +74,6 @@ def cmd_cycle(args) -> int:
         dict(zip(COLUMNS[:-1], (float(x[i]) for x in columns[:-1]))) | {"status": status_message(int(columns[-1][i]))}
         for i in range(n)
     ]
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     csv = str(out / "cycle.csv")
     provenance = record_comments(scene_record(spec)) + [f"preload = {preload:.10g} N, mu = {mu:.10g}"]
     write_csv(rows, csv, comments=provenance)
@@ -86,7 +104,11 @@ def cmd_cycle(args) -> int:
         "stick_stiffness_N_per_m": float(cycle.stick_stiffness),
         "macroslip_force_N": mu * preload,
     }
-    print_result(payload | {"rows": rows, "files": [csv, figure]}, args.format, text)
+    files = [csv, figure]
+    if loads is not None:
+        text = path_text + "".join(f"\nwrote {f}" for f in path_files) + "\n\n" + text
+        payload, files = payload | {"path": path_rows}, path_files + files
+    print_result(payload | {"rows": rows, "files": files}, args.format, text)
     return 0
 
 
@@ -101,7 +123,10 @@ def _middle(loads) -> float:
 
 
 def add_cycle_options(p) -> None:
+    from ._path_command import add_path_option
+
     p.add_argument("--mu", type=float, help="friction coefficient (default: the scene's [friction] mu)")
+    add_path_option(p)
     p.add_argument(
         "--preload", type=float, help="normal load F (N) (default: [friction] preload, or the scene's middle load)"
     )

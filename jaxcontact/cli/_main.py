@@ -121,8 +121,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_interface_options(p)
     p = scene_command(
         "cycle",
-        "the joint's friction loops about a preload (partial slip, Cattaneo–Mindlin spots, Masing's rules): "
-        "loop tip, dissipation, secant stiffness and damping ratio against amplitude, as CSV and a plot",
+        "the joint in service: friction loops about a preload (--mu; Cattaneo–Mindlin spots, Masing's rules) "
+        "and a normal load path (--path; approach, branch stiffness, residual approach), as CSV and plots",
         cmd_cycle,
         "jaxcontact-out/cycle",
     )

@@ -236,3 +236,20 @@ def plot_cycle(amplitudes, force, damping, fractions, backbone, slip_force, path
     for ax in (left, right):
         ax.grid(True, which="both", alpha=0.3)
     return save_figure(fig, path)
+
+
+def plot_path(load, approach, branch, path: pathlib.Path) -> str:
+    """The points of a load path on the load–approach plane, marked by branch and numbered in the
+    order applied (no lines: a chord between two points is not the curve between them)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = subplots(1, 1, figsize=(5.5, 4.2))
+    ok = np.isfinite(approach)
+    for code, (name, marker) in enumerate((("loading", "o"), ("unloading", "v"), ("reloading", "^"))):
+        on = ok & (branch == code)
+        ax.plot(1e9 * approach[on], load[on], marker, ms=5, ls="none", label=name)
+    for i in np.flatnonzero(ok):
+        ax.annotate(str(i + 1), (1e9 * approach[i], load[i]), textcoords="offset points", xytext=(5, 3), fontsize=7)
+    ax.set(xlabel="approach δ − δ(first point) (nm)", ylabel="load F (N)", title="Load path")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    return save_figure(fig, path)

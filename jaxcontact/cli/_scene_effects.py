@@ -1,5 +1,6 @@
-"""The scene file's effect tables that describe more than the joint: `[dynamics]` (a driven mass)
-and `[friction]` (the friction loops of `jaxcontact cycle`), checked as read."""
+"""The scene file's effect tables that describe more than the joint: `[dynamics]` (a driven mass),
+`[friction]` (the friction loops of `jaxcontact cycle`) and `[path]` (its normal load path),
+checked as read."""
 
 from __future__ import annotations
 
@@ -53,6 +54,17 @@ def friction_spec(spec: dict) -> FrictionSpec:
             raise SceneFileError(f"friction.amplitudes = {amplitudes!r} must be [low, high] (m) with 0 < low < high")
         amplitudes = (float(amplitudes[0]), float(amplitudes[1]))
     return FrictionSpec(float(mu), None if preload is None else float(preload), amplitudes)
+
+
+def path_spec(spec: dict) -> tuple[float, ...]:
+    """The `[path]` table's `loads`: a load path (N) in the order applied, at least two loads > 0."""
+    loads = spec.get("loads")
+    if loads is None:
+        raise SceneFileError("missing key path.loads (the loads, N, in the order applied)")
+    ok = len(loads) >= 2 and all(isinstance(x, (int, float)) and math.isfinite(x) and x > 0 for x in loads)
+    if not ok:
+        raise SceneFileError(f"path.loads = {loads!r} must be at least two loads (N), each > 0, in the order applied")
+    return tuple(float(x) for x in loads)
 
 
 def dynamics_spec(spec: dict) -> DynamicsSpec:

@@ -14,6 +14,7 @@ title = "..."
 [loads]     unit ("N" | "F_star"), and either values = [...] or range = [lo, hi] with count
 [approach]  reference_load (N): ask for the load–approach curve relative to this preload
 [friction]  mu (coefficient), preload (N), amplitudes = [lo, hi] (m): the friction loops of `jaxcontact cycle`
+[path]      loads = [F1, F2, ...] (N, in the order applied): the normal load path of `jaxcontact cycle`
 [dynamics]  mass (kg), preload (N), amplitude (N), damping_ratio (ζ) or damping (N s/m),
             frequency (Hz; default the linear resonance), sweep = [lo, hi] (× resonance), sweep_count
 ```
@@ -40,7 +41,7 @@ from ..core import Outputs, Scene
 from ..numerics import InputError
 from ..numerics._validate import decoded_text, file_spelling
 from ..quantities import Material, Scales, Surface
-from ._scene_effects import DynamicsSpec, FrictionSpec, SceneFileError, dynamics_spec, friction_spec
+from ._scene_effects import DynamicsSpec, FrictionSpec, SceneFileError, dynamics_spec, friction_spec, path_spec
 
 DEFAULT_SCENE = "table1_grinding.toml"
 
@@ -69,6 +70,7 @@ _SCHEMA = {
     "loads": {"unit": str, "values": list, "range": list, "count": int},
     "approach": {"reference_load": float},
     "friction": {"mu": float, "preload": float, "amplitudes": list},
+    "path": {"loads": list},
     "dynamics": {
         "mass": float,
         "preload": float,
@@ -88,9 +90,10 @@ MAX_LOADS = 10_000_000
 @dataclasses.dataclass(frozen=True)
 class SceneFile:
     """A scene as read from TOML: the `Scene`, the loads (N), a title, the optional effects
-    `approach_reference` (N, the preload of the load–approach curve) and `dynamics`, and the
-    option of `solve` it asks for (`outputs`: `[effects] regime_shares`). `[model] max_steps` and
-    `solver_tolerance` are the model's root finder (`NewtonBisection`)."""
+    `approach_reference` (N, the preload of the load–approach curve), `dynamics`, `friction` and
+    `path` (N, a load path in the order applied), and the option of `solve` it asks for
+    (`outputs`: `[effects] regime_shares`). `[model] max_steps` and `solver_tolerance` are the
+    model's root finder (`NewtonBisection`)."""
 
     title: str
     scene: Scene
@@ -100,6 +103,7 @@ class SceneFile:
     dynamics: DynamicsSpec | None = None
     outputs: Outputs = Outputs()
     friction: FrictionSpec | None = None
+    path: tuple[float, ...] | None = None
 
     @property
     def load_star(self) -> np.ndarray:
@@ -218,6 +222,7 @@ def parse_scene(data: dict, source: str = "<scene>") -> SceneFile:
         dynamics=dynamics_spec(data["dynamics"]) if "dynamics" in data else None,
         outputs=outputs,
         friction=friction_spec(data["friction"]) if "friction" in data else None,
+        path=path_spec(data["path"]) if "path" in data else None,
     )
 
 
