@@ -68,13 +68,17 @@ from .numerics import (
 from .physics import (
     AbstractDistribution,
     AbstractInteraction,
+    AbstractLongEnd,
     AbstractSpotStiffness,
     AbstractStiffness,
     FamilyDerivative,
     Loading,
     MajumdarBhushan,
+    MeasuredSpectrum,
     NoInteraction,
     PaperInteraction,
+    PowerLawEnd,
+    Rolloff,
     SeriesInteraction,
     Sneddon,
     TangentialStick,
@@ -121,6 +125,10 @@ _LAZY = (
 __all__ = [
     # The joint and its solve
     "Surface",
+    "MeasuredSpectrum",
+    "AbstractLongEnd",
+    "Rolloff",
+    "PowerLawEnd",
     "Material",
     "contact_modulus",
     "tangential_contact_modulus",

@@ -102,6 +102,7 @@ LONGEST_FIRST = (
     "test_bem_path.py",
     "test_bem_tangential.py",
     "test_load_path.py",
+    "test_measured_spectrum.py",
     "test_tangential_cycle.py",
     "test_in_service.py",
     "test_measured_asperities.py",

@@ -14,6 +14,8 @@ outer integral is taken in `x = w(q) p/E` (`dQ = q³ C_P dq`, `w = (πQ)^(-1/2)`
 
 a smooth integrand in `ln x` over `[ln x1, ln 6]` (S(6) ≈ e^-36), done by Gauss–Legendre. The
 stiffness is explicit in the load: no state is solved for. At small loads K ∝ p (the known law).
+A measured spectrum (`MeasuredSpectrum`, a table of C2D) gives `Q(q)` and its inverse `q*(x/F*)`
+exactly for the table's piecewise power law.
 """
 
 from __future__ import annotations
@@ -25,7 +27,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from ..numerics import check_range, integrate_log_area
+from ..numerics import InputError, check_range, integrate_log_area
+from ..physics import MeasuredSpectrum
 from ..physics._spectrum import log_areal_prefactor, log_band
 from ..quantities import Status
 from ._base import (
@@ -44,8 +47,10 @@ class Persson(AbstractContactModel):
     """Persson's theory (docs/model.md §9), elastic, with Yang & Persson's correction factor.
 
     **Arguments:** `gamma`, the correction factor γ_P of S(x) (0.45, the papers' value); `nodes`,
-    Gauss–Legendre nodes of the integral in `ln x` (static). One regime, "e"; `Solution.a_l` is
-    NaN (no largest spot).
+    Gauss–Legendre nodes of the integral in `ln x` (static); `spectrum`, None (the scene's
+    self-affine C2D from D, G and l_min) or a `MeasuredSpectrum` (its table, in place of the
+    scene's D, G and l_min, which are then not used). One regime, "e"; `Solution.a_l` is NaN (no
+    largest spot).
     """
 
     name: ClassVar[str] = "persson"
@@ -53,10 +58,13 @@ class Persson(AbstractContactModel):
     regimes: ClassVar[tuple[str, ...]] = ("e",)
     gamma: float = eqx.field(static=True, default=0.45)
     nodes: int = eqx.field(static=True, default=96)
+    spectrum: MeasuredSpectrum | None = None
 
     def __check_init__(self):
         check_range("gamma", self.gamma, 0.0, 1.0, low_open=False, high_open=False)
         check_range("nodes", self.nodes, 8, 4096, low_open=False, high_open=False)
+        if self.spectrum is not None and not isinstance(self.spectrum, MeasuredSpectrum):
+            raise InputError(f"spectrum = {self.spectrum!r} must be None or a MeasuredSpectrum")
 
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading
@@ -68,15 +76,10 @@ class Persson(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
-        log_q0, log_q1 = log_band(s.log_a_min)
-        exponent = 2.0 * s.D - 2.0  # of q in Q(q)
-        log_c = log_areal_prefactor(s.D, s.log_G) - 2.0 * math.log(2.0 * math.pi) - jnp.log(exponent)
-        log_Q1 = log_c + jnp.log(jnp.expm1(exponent * (log_q1 - log_q0))) + exponent * log_q0
-        log_w1 = -0.5 * (math.log(math.pi) + log_Q1)
-
-        def log_q_of_w(log_w):
-            # q^(2D-2) = q0^(2D-2) + 1/(π c w²)
-            return jnp.logaddexp(exponent * log_q0, -math.log(math.pi) - log_c - 2.0 * log_w) / exponent
+        if self.spectrum is None:
+            log_w1, log_q_of_w = _power_law_band(s)
+        else:
+            log_w1, log_q_of_w = _tabulated_band(self.spectrum, s.log_length)
 
         def one_point(F_star) -> PointResult:
             valid = jnp.isfinite(F_star) & (F_star > 0)
@@ -103,3 +106,28 @@ class Persson(AbstractContactModel):
             return PointResult(jnp.full_like(log_load, jnp.nan), response, status)
 
         return one_point
+
+
+def _power_law_band(s):
+    """`ln w(q1*)` and `ln w ↦ ln q*(w)` of the self-affine C2D on `[2π, 2π/l_min*]`, in closed form."""
+    log_q0, log_q1 = log_band(s.log_a_min)
+    exponent = 2.0 * s.D - 2.0  # of q in Q(q)
+    log_c = log_areal_prefactor(s.D, s.log_G) - 2.0 * math.log(2.0 * math.pi) - jnp.log(exponent)
+    log_Q1 = log_c + jnp.log(jnp.expm1(exponent * (log_q1 - log_q0))) + exponent * log_q0
+
+    def log_q_of_w(log_w):
+        # q^(2D-2) = q0^(2D-2) + 1/(π c w²)
+        return jnp.logaddexp(exponent * log_q0, -math.log(math.pi) - log_c - 2.0 * log_w) / exponent
+
+    return -0.5 * (math.log(math.pi) + log_Q1), log_q_of_w
+
+
+def _tabulated_band(spectrum: MeasuredSpectrum, log_length):
+    """The same from a measured spectrum: `q*(w)` by inverting its cumulative `Q*` exactly
+    (`MeasuredSpectrum.cumulative`; `w = (πQ)^(-1/2)`)."""
+    log_Q1, log_q_of_log_Q = spectrum.cumulative(log_length)
+
+    def log_q_of_w(log_w):
+        return log_q_of_log_Q(-math.log(math.pi) - 2.0 * log_w)
+
+    return -0.5 * (math.log(math.pi) + log_Q1), log_q_of_w

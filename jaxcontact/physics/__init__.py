@@ -1,5 +1,6 @@
 """The physics of one asperity (Sec. 2), of interaction between asperities (Sec. 3), of the size
-distribution (Eq. 30) and of the surface's power spectrum, as power laws in the contact area; the
+distribution (Eq. 30) and of the surface's power spectrum, as power laws in the contact area, and a
+spectrum as measured (`MeasuredSpectrum`); the
 choices among them (interactions, distributions, spot stiffnesses) are small `eqx.Module`s."""
 
 from ._asperity import REGIMES, interference, kogut_etsion_laws, regime_edges, regime_load_laws
@@ -12,11 +13,13 @@ from ._distribution import (
 )
 from ._in_service import AbstractStiffness, Loading, TangentialStick, Unloading, mindlin_ratio
 from ._interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction, interaction_ratio
+from ._measured_spectrum import AbstractLongEnd, MeasuredSpectrum, PowerLawEnd, Rolloff
 from ._spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon, hertz_stiffness
 
 __all__ = [
     "AbstractDistribution",
     "AbstractInteraction",
+    "AbstractLongEnd",
     "AbstractSpotStiffness",
     "AbstractStiffness",
     "FamilyDerivative",
@@ -27,11 +30,14 @@ __all__ = [
     "Loading",
     "mindlin_ratio",
     "MajumdarBhushan",
+    "MeasuredSpectrum",
     "NoInteraction",
     "PaperInteraction",
+    "PowerLawEnd",
     "regime_edges",
     "regime_load_laws",
     "REGIMES",
+    "Rolloff",
     "SeriesInteraction",
     "size_distribution",
     "Sneddon",

@@ -1,0 +1,153 @@
+"""A surface given by its measured roughness spectrum: the isotropic `C2D(q)` as a table over the
+band where it was measured, and named choices beyond the table's long end (docs/model.md §8).
+
+Between the table's points `C2D` is a power law (straight in `ln q`, `ln C2D`), the shape a binned
+spectrum of self-affine roughness has. A joint is larger than the map that was measured: from the
+joint's longest wavelength `√A_a` to the table's first point, `C2D` is continued by the long end's
+law, `Rolloff()` (constant: the spectrum rolls off at the longest measured wavelength) or
+`PowerLawEnd(D)` (the self-affine `q^-(6-2D)` extrapolated). The table's last point is the short
+end: the reliability cutoff or l_min, as whoever measured the spectrum chose.
+
+The models that work from a spectrum (Persson) need the cumulative `Q(q) = ∫_{q0}^{q} q'³ C_P dq'`
+(`C_P = C2D/(2π)²`) and its inverse, both exact for piecewise power laws, in the scene's units
+(lengths in `√A_a`, so that `q0 = 2π`).
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from typing import ClassVar
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..numerics import InputError
+from ..numerics._powerlaw import exponential_integral
+
+LOG_2PI = math.log(2.0 * math.pi)
+
+
+class AbstractLongEnd(eqx.Module):
+    """How `C2D` continues from the table's longest wavelength to the joint's (`√A_a`).
+
+    **Class attribute:** `name` (reports).
+    """
+
+    name: eqx.AbstractClassVar[str]
+
+    @abc.abstractmethod
+    def slope(self, log_C: Float[Array, " bins"], log_q: Float[Array, " bins"]) -> Float[Array, ""]:
+        """`d ln C2D / d ln q` below the table's first point."""
+
+
+class Rolloff(AbstractLongEnd):
+    """`C2D` constant below the longest measured wavelength: the spectrum rolls off there."""
+
+    name: ClassVar[str] = "rolloff"
+
+    def slope(self, log_C, log_q):
+        return jnp.zeros_like(log_C[0])
+
+
+class PowerLawEnd(AbstractLongEnd):
+    """`C2D ∝ q^-(6-2D)` below the longest measured wavelength: the self-affine law extrapolated.
+
+    **Arguments:** `D`, the fractal dimension whose slope is extended (1 < D < 2).
+    """
+
+    name: ClassVar[str] = "power-law"
+    D: float = eqx.field(converter=float)
+
+    def __check_init__(self):
+        if not 1.0 < self.D < 2.0:
+            raise InputError(f"D = {self.D!r} is outside its valid range (1, 2)")
+
+    def slope(self, log_C, log_q):
+        return jnp.full_like(log_C[0], -(6.0 - 2.0 * self.D))
+
+
+class MeasuredSpectrum(eqx.Module):
+    """The isotropic roughness spectrum `C2D(q)` as measured (module docstring).
+
+    **Arguments:**
+
+    - `q`: wavevectors, 1/m, increasing, at least 2 (the measured band, long wavelengths first).
+    - `C2D`: the spectrum at each q, m⁴, positive (SurfaceTopography's convention,
+      `<h²> = (2π)^-2 ∫ C2D d²q`).
+    - `long_end`: `Rolloff()` (default) or `PowerLawEnd(D)`, the law from the table's first point
+      down to the joint's `q0 = 2π/√A_a`.
+
+    The table's values are arrays: `jax.grad` reaches `log_C` (ln C2D) through `eqx.tree_at`.
+    """
+
+    log_q: Float[Array, " bins"]
+    log_C: Float[Array, " bins"]
+    long_end: AbstractLongEnd = Rolloff()
+
+    def __init__(self, q, C2D, long_end: AbstractLongEnd = Rolloff()):
+        q_values, c_values = np.asarray(q, dtype=float), np.asarray(C2D, dtype=float)
+        if q_values.ndim != 1 or q_values.shape != c_values.shape or q_values.size < 2:
+            raise InputError(
+                f"q and C2D have shapes {q_values.shape} and {c_values.shape}: give two 1-D tables of one length, "
+                "at least 2"
+            )
+        if not (np.all(np.isfinite(q_values)) and np.all(q_values > 0) and np.all(np.diff(q_values) > 0)):
+            raise InputError(
+                "q must be finite, positive and increasing (1/m): the measured band, long wavelengths first"
+            )
+        if not (np.all(np.isfinite(c_values)) and np.all(c_values > 0)):
+            raise InputError("C2D must be finite and positive (m⁴) at every q")
+        if not isinstance(long_end, AbstractLongEnd):
+            raise InputError(f"long_end = {long_end!r} must be Rolloff() or PowerLawEnd(D)")
+        self.log_q, self.log_C = jnp.asarray(np.log(q_values)), jnp.asarray(np.log(c_values))
+        self.long_end = long_end
+
+    @classmethod
+    def from_characterisation(cls, characterisation, long_end: AbstractLongEnd = Rolloff()) -> MeasuredSpectrum:
+        """The binned `C2D` of an areal map's characterisation (`jaxcontact.topography.characterise`)
+        over its band (from `2π/band[1]` to `2π/band[0]`, the reliable one)."""
+        if getattr(characterisation.kind, "name", "") != "areal":
+            raise InputError(
+                f"the characterisation is of a {characterisation.kind.name} measurement: a measured spectrum needs "
+                "an areal map's C2D"
+            )
+        q, C = (np.asarray(x, dtype=float) for x in characterisation.spectrum)
+        short, long = characterisation.band
+        inside = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / short * (1 + 1e-9)) & (C > 0)
+        return cls(q[inside], C[inside], long_end)
+
+    def cumulative(self, log_length):
+        """`(ln Q*(q1*), ln Q* ↦ ln q*)`: the cumulative `Q*` over the whole band, from `q0* = 2π` to
+        the table's last point, and its inverse, exact for the piecewise power law (each piece's
+        `∫ q³ C_P dq` solved for its upper end), in the units of a joint of side `exp(log_length)` m
+        (`q* = q √A_a`, `C* = C2D/A_a²`). A table that starts below `q0*` is cut there."""
+        log_q = self.log_q + log_length
+        log_C = self.log_C - 4.0 * log_length
+        start = jnp.full_like(log_q[0], LOG_2PI)
+        # The pieces: the long end's law from q0* to the first point, then every bin.
+        slope = jnp.concatenate([self.long_end.slope(log_C, log_q)[None], jnp.diff(log_C) / jnp.diff(log_q)])
+        anchor_q, anchor_C = jnp.concatenate([log_q[:1], log_q[:-1]]), jnp.concatenate([log_C[:1], log_C[:-1]])
+        lower = jnp.clip(jnp.concatenate([start[None], log_q[:-1]]), start, None)
+        upper = jnp.maximum(log_q, lower)
+        # q³ C_P dq = exp(log_coeff + rate t) dt in t = ln q, with C_P = C* (q/q_a)^slope / (2π)².
+        rate = 4.0 + slope
+        log_coeff = anchor_C - slope * anchor_q - 2.0 * LOG_2PI
+        parts = exponential_integral(log_coeff, rate, lower, upper)
+        ends = jnp.cumsum(parts)
+        starts, total = ends - parts, ends[-1]
+
+        def log_q_of_log_Q(log_Q):
+            Q = jnp.minimum(jnp.exp(log_Q), total)
+            k = jnp.clip(jnp.searchsorted(ends, Q), 0, ends.shape[0] - 1)
+            # Within piece k: e^(rate t) = e^(rate t_a) + rate (Q − Q_a) e^(−log_coeff), so that
+            # t = t_a + ln(1 + rate u)/rate with u = (Q − Q_a) e^(−log_coeff − rate t_a).
+            r = rate[k]
+            u = (Q - starts[k]) * jnp.exp(-log_coeff[k] - r * lower[k])
+            small = jnp.abs(r * u) < 1e-6
+            step = jnp.where(small, u * (1.0 - 0.5 * r * u), jnp.log1p(r * u) / jnp.where(small, 1.0, r))
+            return lower[k] + step
+
+        return jnp.log(total), log_q_of_log_Q

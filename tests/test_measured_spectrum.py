@@ -1,0 +1,162 @@
+"""Persson's theory on a measured spectrum (`jc.MeasuredSpectrum`): a power-law table against the
+closed-form (D, G, l_min) Persson, a spectrum with a kink and a roll-off against scipy's quadrature of
+Persson's integrals in q, the derivative in the table's values against central differences, float32,
+a synthesised map's characterisation, bad tables."""
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from scipy import integrate, special
+
+import jaxcontact as jc
+from jaxcontact.numerics import x64
+from jaxcontact.physics._spectrum import log_areal_prefactor
+
+E, AREA, D, G = 1e11, 1e-8, 1.4, 1e-11  # Pa, m² (L = 100 µm), -, m
+L = math.sqrt(AREA)
+L_MIN = L / 64
+LOADS = np.array([1e-6, 1e-4, 1e-2]) * E * AREA  # N: F* from 1e-6 to 1e-2
+GAMMA = 0.45
+
+
+def power_law(q):
+    """The scene's C2D (m⁴) of docs/model.md §8, in SI units."""
+    return np.exp(log_areal_prefactor(D, math.log(G), gammaln=special.gammaln)) * q ** -(6 - 2 * D)
+
+
+def scene_of(model):
+    return jc.Scene(jc.Surface(D=D, G=G, l_min=L_MIN), jc.Material(E=E, nu=0.3, H=3e9), AREA, model=model)
+
+
+def scipy_persson(C2D, q0, q1, breaks, F):
+    """K (N/m) of Persson's theory with Yang & Persson's S(x), by scipy's quadrature in q:
+    `K/A = p / (√π ∫ q² C_P w S(w p/E) dq)`, `w = (π ∫_{q0}^{q} q'³ C_P dq')^(-1/2)`."""
+    points = [b for b in breaks if q0 < b < q1]
+
+    def inner(q):
+        edges = [q0] + [b for b in points if b < q] + [q]
+        return sum(
+            integrate.quad(lambda k: k**3 * C2D(k) / (2 * math.pi) ** 2, a, b, epsabs=0, epsrel=1e-13)[0]
+            for a, b in zip(edges[:-1], edges[1:])
+        )
+
+    p = F / AREA
+
+    def outer(log_q):
+        q = math.exp(log_q)
+        w = (math.pi * inner(q)) ** -0.5
+        x = w * p / E
+        S = (GAMMA + 3 * (1 - GAMMA) * math.erf(x) ** 2) * math.exp(-x * x)
+        return q**3 * C2D(q) / (2 * math.pi) ** 2 * w * S
+
+    logs = [math.log(q0)] + [math.log(b) for b in points] + [math.log(q1)]
+    total = sum(integrate.quad(outer, a, b, epsabs=0, epsrel=1e-10, limit=200)[0] for a, b in zip(logs[:-1], logs[1:]))
+    return AREA * p / (math.sqrt(math.pi) * total)
+
+
+Q0, Q1 = 2 * math.pi / L, 2 * math.pi / L_MIN
+
+
+def test_a_power_law_table_is_the_closed_form_persson():
+    q = np.geomspace(Q0, Q1, 200)
+    measured = jc.solve(scene_of(jc.Persson(spectrum=jc.MeasuredSpectrum(q, power_law(q)))), LOADS).stiffness
+    closed = jc.solve(scene_of(jc.Persson()), LOADS).stiffness
+    # The table is the same piecewise power law: exact.
+    np.testing.assert_allclose(np.asarray(measured), np.asarray(closed), rtol=1e-12)
+
+
+# A spectrum with a kink (slope -3.2 below q_k, -4.4 above) measured from 4 q0 on: rolled off below.
+Q_START, Q_KINK = 4 * Q0, 16 * Q0
+
+
+def kinked(q):
+    q = np.maximum(q, Q_START)
+    return power_law(Q_KINK) * np.where(q < Q_KINK, (q / Q_KINK) ** -3.2, (q / Q_KINK) ** -4.4)
+
+
+@pytest.fixture(scope="module")
+def kinked_table():
+    q = np.geomspace(Q_START, Q1, 120)
+    return jc.MeasuredSpectrum(np.union1d(q, [Q_KINK]), kinked(np.union1d(q, [Q_KINK])))
+
+
+def test_a_kinked_rolled_off_table_is_scipys_persson(kinked_table):
+    got = jc.solve(scene_of(jc.Persson(spectrum=kinked_table)), LOADS).stiffness
+    expected = [scipy_persson(lambda k: float(kinked(np.array(k))), Q0, Q1, [Q_START, Q_KINK], F) for F in LOADS]
+    np.testing.assert_allclose(np.asarray(got), expected, rtol=1e-5)
+
+
+def test_the_derivative_in_the_tables_values_matches_central_differences(kinked_table):
+    scene = scene_of(jc.Persson(spectrum=kinked_table))
+
+    def stiffness(shift):
+        moved = eqx.tree_at(lambda s: s.model.spectrum.log_C, scene, kinked_table.log_C + shift)
+        return jc.solve(moved, LOADS[1]).stiffness
+
+    # One bin's value raised: the spectrum's derivative where the contact's stress is carried.
+    direction = jnp.zeros_like(kinked_table.log_C).at[60].set(1.0)
+    step = 1e-4
+    fd = (stiffness(step * direction) - stiffness(-step * direction)) / (2 * step)
+    got = jax.jvp(stiffness, (jnp.zeros_like(direction),), (direction,))[1]
+    np.testing.assert_allclose(float(got), float(fd), rtol=1e-5)
+
+
+def test_float32_agrees_with_float64(kinked_table):
+    expected = jc.solve(scene_of(jc.Persson(spectrum=kinked_table)), LOADS).stiffness
+    with x64(False):
+        spectrum = jc.MeasuredSpectrum(np.exp(kinked_table.log_q), np.exp(kinked_table.log_C))
+        scene = jc.Scene(
+            jc.Surface(D=D, G=G, l_min=L_MIN),
+            jc.Material(E=E, nu=0.3, H=3e9),
+            AREA,
+            model=jc.Persson(spectrum=spectrum),
+        )
+        got = jc.solve(scene, np.float32(LOADS)).stiffness
+        np.testing.assert_allclose(np.asarray(got), np.asarray(expected), rtol=1e-3)
+
+
+def test_a_closed_interface_is_flagged(kinked_table):
+    solution = jc.solve(scene_of(jc.Persson(spectrum=kinked_table)), np.array([0.5]) * E * AREA)
+    assert int(solution.status[0]) == jc.Status.LOAD_OUT_OF_RANGE
+
+
+@pytest.mark.parametrize(
+    "q, C, message",
+    [
+        (np.array([2.0, 1.0]), np.array([1.0, 1.0]), "q must be finite, positive and increasing"),
+        (np.array([1.0, 2.0]), np.array([1.0, -1.0]), "C2D must be finite and positive"),
+        (np.array([1.0]), np.array([1.0]), "at least 2"),
+    ],
+)
+def test_a_bad_table_is_refused_by_name(q, C, message):
+    with pytest.raises(ValueError, match=message):
+        jc.MeasuredSpectrum(q, C)
+
+
+def exact_power_law_map(n, seed):
+    """A periodic map whose every Fourier mode has the power law's amplitude (random phases only):
+    `|h_q|² = C2D(q)/L²` in SurfaceTopography's convention, up to the map's l_min."""
+    k = np.fft.fftfreq(n, 1 / n) * 2 * math.pi / L
+    k_half = np.fft.rfftfreq(n, 1 / n) * 2 * math.pi / L
+    q = np.sqrt(k[:, None] ** 2 + k_half[None, :] ** 2)
+    inside = (q > 0) & (q <= Q1 * (1 + 1e-9))
+    amplitude = np.where(inside, np.sqrt(power_law(np.where(q > 0, q, 1.0))) / L, 0.0) * n * n
+    phase = np.exp(2j * math.pi * np.random.default_rng(seed).random(q.shape))
+    return np.fft.irfft2(amplitude * phase, s=(n, n))
+
+
+def test_a_maps_characterisation_gives_the_spectrums_persson():
+    # The map's binned C2D over its band against the (D, G) it was made with: 1.2-2.1 % measured,
+    # from the binning of the longest wavelengths (their bins hold few modes of a steep spectrum).
+    topography = pytest.importorskip("SurfaceTopography").Topography
+    from jaxcontact.topography import characterise
+
+    found = characterise(topography(exact_power_law_map(128, 1), physical_sizes=(L, L), periodic=True))
+    measured = jc.solve(scene_of(jc.Persson(spectrum=jc.MeasuredSpectrum.from_characterisation(found))), LOADS)
+    surface = jc.Surface(D=D, G=G, l_min=found.band[0])
+    closed = jc.solve(jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), AREA, model=jc.Persson()), LOADS)
+    np.testing.assert_allclose(np.asarray(measured.stiffness), np.asarray(closed.stiffness), rtol=3e-2)
