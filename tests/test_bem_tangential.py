@@ -123,10 +123,6 @@ def test_float32_agrees_with_float64(rough):
         np.testing.assert_allclose(np.asarray(got.tangential_stiffness), np.asarray(expected), rtol=1e-3)
 
 
-def test_without_poisson_there_is_no_tangential_stiffness(rough):
-    assert bem.solve(rough, L, E, ROUGH_LOADS).tangential_stiffness is None
-
-
 @pytest.mark.parametrize("nu", [-0.1, 0.5, float("nan")])
 def test_a_poisson_ratio_outside_its_range_is_refused(rough, nu):
     with pytest.raises(ValueError, match="poisson"):
