@@ -124,6 +124,26 @@ def test_a_closed_interface_is_flagged(kinked_table):
     assert int(solution.status[0]) == jc.Status.LOAD_OUT_OF_RANGE
 
 
+def test_gw_on_a_power_law_table_is_the_closed_form_gw():
+    q = np.geomspace(Q0, Q1, 50)
+    measured = jc.solve(scene_of(jc.GreenwoodWilliamson(spectrum=jc.MeasuredSpectrum(q, power_law(q)))), LOADS)
+    closed = jc.solve(scene_of(jc.GreenwoodWilliamson()), LOADS)
+    np.testing.assert_allclose(np.asarray(measured.stiffness), np.asarray(closed.stiffness), rtol=1e-10)
+
+
+@pytest.mark.parametrize("order", [0, 2, 4])
+def test_the_kinked_tables_moments_are_scipys(kinked_table, order):
+    # McCool's m0 = M0, m2 = M2/2, m4 = 3 M4/8 with M_k = (1/2π) ∫ q^(k+1) C2D dq, in units of √A_a.
+    got = kinked_table.profile_moments(jnp.asarray(math.log(L)))[order // 2]
+    edges = [Q0, Q_START, Q_KINK, Q1]
+    total = sum(
+        integrate.quad(lambda q: q ** (order + 1) * float(kinked(np.array(q))), a, b, epsabs=0, epsrel=1e-13)[0]
+        for a, b in zip(edges[:-1], edges[1:])
+    )
+    scale = (1.0, 0.5, 0.375)[order // 2] / (2 * math.pi) * L ** (order - 2)  # m^(−order+2) → units of √A_a
+    np.testing.assert_allclose(float(got), total * scale, rtol=1e-10)
+
+
 @pytest.mark.parametrize(
     "q, C, message",
     [

@@ -25,6 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..numerics import NewtonBisection, PowerLaw, cached, check_instance
+from ..physics import MeasuredSpectrum
 from ..physics._spectrum import profile_moments
 from ..quantities import Status
 from ._base import (
@@ -72,11 +73,14 @@ def log_tail_moment(order: float, h):
     return -0.5 * h * h - 0.5 * math.log(2.0 * math.pi) - (order + 1.0) * jnp.log(lam) + log_sum
 
 
-def summit_statistics(s):
+def summit_statistics(s, spectrum: MeasuredSpectrum | None = None):
     """`(ln η*, ln R*, ln σ_s*)` of the scene's surface by McCool's relations (module docstring);
-    `η* = η A_a`, `R* = R/√A_a`, `σ_s* = σ_s/√A_a`.
+    `η* = η A_a`, `R* = R/√A_a`, `σ_s* = σ_s/√A_a`; from a measured spectrum's moments where given.
     """
-    m0, m2, m4 = profile_moments(s.D, s.log_G, s.log_a_min)
+    if spectrum is None:
+        m0, m2, m4 = profile_moments(s.D, s.log_G, s.log_a_min)
+    else:
+        m0, m2, m4 = spectrum.profile_moments(s.log_length)
     alpha = m0 * m4 / (m2 * m2)
     log_eta = jnp.log(m4 / m2) - math.log(6.0 * math.pi * math.sqrt(3.0))
     log_R = math.log(0.375) + 0.5 * (math.log(math.pi) - jnp.log(m4))
@@ -98,15 +102,20 @@ class GreenwoodWilliamson(AbstractContactModel):
     """Greenwood & Williamson (1966) with Gaussian summits from the PSD's moments (docs/model.md §9);
     every summit elastic (Hertz). One regime, "e". `Solution.a_l` is NaN: the model has no largest spot.
 
-    **Arguments:** `root_finder`, the solve for each load's separation (`NewtonBisection()`).
+    **Arguments:** `root_finder`, the solve for each load's separation (`NewtonBisection()`);
+    `spectrum`, None (the scene's self-affine C2D from D, G and l_min) or a `MeasuredSpectrum`,
+    whose moments then replace the scene's D, G and l_min.
     """
 
     name: ClassVar[str] = "gw"
     regimes: ClassVar[tuple[str, ...]] = ("e",)
     root_finder: NewtonBisection = NewtonBisection()
+    spectrum: MeasuredSpectrum | None = None
 
     def __check_init__(self):
         check_instance("root_finder", self.root_finder, NewtonBisection)
+        if self.spectrum is not None:
+            check_instance("spectrum", self.spectrum, MeasuredSpectrum)
 
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading
@@ -115,13 +124,13 @@ class GreenwoodWilliamson(AbstractContactModel):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
     def point_solver(self, s):
-        solve = self._separation_solver(summit_statistics(s))
+        solve = self._separation_solver(summit_statistics(s, self.spectrum))
         return lambda F_star: separated_point(solve(F_star))
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact in the families of `INTERFERENCE_EDGES`,
         in `t = ln ŵ` (ŵ the interference in units of σ_s)."""
-        statistics = summit_statistics(s)
+        statistics = summit_statistics(s, self.spectrum)
         solve = self._separation_solver(statistics)
         log_eta, log_R, log_sigma = statistics
 

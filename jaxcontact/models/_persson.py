@@ -27,7 +27,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from ..numerics import InputError, check_range, integrate_log_area
+from ..numerics import check_range, integrate_log_area
+from ..numerics._validate import check_instance
 from ..physics import MeasuredSpectrum
 from ..physics._spectrum import log_areal_prefactor, log_band
 from ..quantities import Status
@@ -63,8 +64,8 @@ class Persson(AbstractContactModel):
     def __check_init__(self):
         check_range("gamma", self.gamma, 0.0, 1.0, low_open=False, high_open=False)
         check_range("nodes", self.nodes, 8, 4096, low_open=False, high_open=False)
-        if self.spectrum is not None and not isinstance(self.spectrum, MeasuredSpectrum):
-            raise InputError(f"spectrum = {self.spectrum!r} must be None or a MeasuredSpectrum")
+        if self.spectrum is not None:
+            check_instance("spectrum", self.spectrum, MeasuredSpectrum)
 
     def unloads_as_it_loads(self):
         return True  # elastic: unloading retraces loading

@@ -8,7 +8,7 @@ law, `Rolloff()` (constant: the spectrum rolls off at the longest measured wavel
 `PowerLawEnd(D)` (the self-affine `q^-(6-2D)` extrapolated). The table's last point is the short
 end: the reliability cutoff or l_min, as whoever measured the spectrum chose.
 
-The models that work from a spectrum (Persson) need the cumulative `Q(q) = ∫_{q0}^{q} q'³ C_P dq'`
+Greenwood–Williamson needs the spectrum's moments, Persson the cumulative `Q(q) = ∫_{q0}^{q} q'³ C_P dq'`
 (`C_P = C2D/(2π)²`) and its inverse, both exact for piecewise power laws, in the scene's units
 (lengths in `√A_a`, so that `q0 = 2π`).
 """
@@ -119,22 +119,38 @@ class MeasuredSpectrum(eqx.Module):
         inside = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / short * (1 + 1e-9)) & (C > 0)
         return cls(q[inside], C[inside], long_end)
 
+    def _pieces(self, log_length):
+        """The piecewise power law in the scene's units: per piece (the long end's from `q0* = 2π`
+        to the first point, then every bin) its ends in `t = ln q*`, cut at `q0*`, and `ln C*` as
+        `log_C0 + slope t`."""
+        log_q = self.log_q + log_length
+        log_C = self.log_C - 4.0 * log_length
+        start = jnp.full_like(log_q[0], LOG_2PI)
+        slope = jnp.concatenate([self.long_end.slope(log_C, log_q)[None], jnp.diff(log_C) / jnp.diff(log_q)])
+        anchor_q, anchor_C = jnp.concatenate([log_q[:1], log_q[:-1]]), jnp.concatenate([log_C[:1], log_C[:-1]])
+        lower = jnp.clip(jnp.concatenate([start[None], log_q[:-1]]), start, None)
+        return lower, jnp.maximum(log_q, lower), anchor_C - slope * anchor_q, slope
+
+    def profile_moments(self, log_length):
+        """McCool's `(m0, m2, m4)` of a line scan (`m0 = M0`, `m2 = M2/2`, `m4 = 3 M4/8`, with
+        `M_k = (1/2π) ∫ q^(k+1) C2D dq` over the whole band), in the scene's units, exact for the
+        piecewise power law: what Greenwood–Williamson's summit statistics are made of."""
+        lower, upper, log_C0, slope = self._pieces(log_length)
+
+        def areal(order):
+            return jnp.sum(exponential_integral(log_C0 - LOG_2PI, slope + order + 2.0, lower, upper))
+
+        return areal(0), areal(2) / 2.0, areal(4) * 3.0 / 8.0
+
     def cumulative(self, log_length):
         """`(ln Q*(q1*), ln Q* ↦ ln q*)`: the cumulative `Q*` over the whole band, from `q0* = 2π` to
         the table's last point, and its inverse, exact for the piecewise power law (each piece's
         `∫ q³ C_P dq` solved for its upper end), in the units of a joint of side `exp(log_length)` m
         (`q* = q √A_a`, `C* = C2D/A_a²`). A table that starts below `q0*` is cut there."""
-        log_q = self.log_q + log_length
-        log_C = self.log_C - 4.0 * log_length
-        start = jnp.full_like(log_q[0], LOG_2PI)
-        # The pieces: the long end's law from q0* to the first point, then every bin.
-        slope = jnp.concatenate([self.long_end.slope(log_C, log_q)[None], jnp.diff(log_C) / jnp.diff(log_q)])
-        anchor_q, anchor_C = jnp.concatenate([log_q[:1], log_q[:-1]]), jnp.concatenate([log_C[:1], log_C[:-1]])
-        lower = jnp.clip(jnp.concatenate([start[None], log_q[:-1]]), start, None)
-        upper = jnp.maximum(log_q, lower)
-        # q³ C_P dq = exp(log_coeff + rate t) dt in t = ln q, with C_P = C* (q/q_a)^slope / (2π)².
+        lower, upper, log_C0, slope = self._pieces(log_length)
+        # q³ C_P dq = exp(log_coeff + rate t) dt in t = ln q, with C_P = C*/(2π)².
         rate = 4.0 + slope
-        log_coeff = anchor_C - slope * anchor_q - 2.0 * LOG_2PI
+        log_coeff = log_C0 - 2.0 * LOG_2PI
         parts = exponential_integral(log_coeff, rate, lower, upper)
         ends = jnp.cumsum(parts)
         starts, total = ends - parts, ends[-1]
