@@ -1,5 +1,5 @@
-"""Persson's theory on a measured spectrum (`jc.MeasuredSpectrum`): a power-law table against the
-closed-form (D, G, l_min) Persson, a spectrum with a kink and a roll-off against scipy's quadrature of
+"""Persson's theory, GW and the BEM model on a measured spectrum (`jc.MeasuredSpectrum`): a power-law
+table against the closed-form (D, G, l_min) models, a spectrum with a kink and a roll-off against scipy's quadrature of
 Persson's integrals in q, the derivative in the table's values against central differences, float32,
 a synthesised map's characterisation, bad tables."""
 
@@ -129,6 +129,18 @@ def test_gw_on_a_power_law_table_is_the_closed_form_gw():
     measured = jc.solve(scene_of(jc.GreenwoodWilliamson(spectrum=jc.MeasuredSpectrum(q, power_law(q)))), LOADS)
     closed = jc.solve(scene_of(jc.GreenwoodWilliamson()), LOADS)
     np.testing.assert_allclose(np.asarray(measured.stiffness), np.asarray(closed.stiffness), rtol=1e-10)
+
+
+def test_the_bem_models_realisations_of_a_power_law_table_are_its_own():
+    # The same seeds' noise on the same amplitudes: the same surfaces, the same stiffness.
+    q = np.geomspace(Q0, 2 * math.pi / (L / 16), 30)
+    surface = jc.Surface(D=D, G=G, l_min=L / 16)
+    closed = jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), AREA, model=jc.BEM(grid=64, realisations=1))
+    measured = closed.with_model(jc.BEM(grid=64, realisations=1, spectrum=jc.MeasuredSpectrum(q, power_law(q))))
+    loads = np.array([1e-4, 1e-3]) * E * AREA
+    np.testing.assert_allclose(
+        np.asarray(jc.solve(measured, loads).stiffness), np.asarray(jc.solve(closed, loads).stiffness), rtol=1e-10
+    )
 
 
 @pytest.mark.parametrize("order", [0, 2, 4])

@@ -12,7 +12,8 @@ import jax
 import jax.numpy as jnp
 
 from ..models import AbstractSweptModel, JointResponse, PathPoints, PointResult, without_single_spots
-from ..numerics._validate import InputError, check_range
+from ..numerics._validate import InputError, check_instance, check_range
+from ..physics import MeasuredSpectrum
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration, checked_status, stand_in_loads
 from ._contact import DEFAULT_TOLERANCE, sweep_sides
@@ -21,7 +22,7 @@ from ._path import solve_path_grid
 from ._problem import GridProblem
 from ._solver import secant_stiffness
 from ._surfaces import PIXELS_PER_L_MIN, check_grid_points, check_realisations
-from ._synthesis import synthesised_heights
+from ._synthesis import spectrum_heights, synthesised_heights
 
 
 class BEM(AbstractSweptModel):
@@ -41,6 +42,9 @@ class BEM(AbstractSweptModel):
       surfaces exactly, and results piecewise constant in l_min).
     - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1),
       `preconditioned`: of the constrained conjugate gradients (`bem.solve`).
+    - `spectrum`: None (the scene's self-affine C2D from D, G and l_min) or a `MeasuredSpectrum`,
+      whose table (cut at its last point, which the grid must resolve as it resolves l_min) the
+      realisations then have instead.
 
     One regime, "e"; `Solution.real_area` is the mean contact area, `Solution.a_l` NaN. Each load is
     its own solve (two for the secant) per realisation, all loads of a call in one increasing sweep
@@ -62,6 +66,7 @@ class BEM(AbstractSweptModel):
     tolerance: float | None = eqx.field(static=True, default=None)
     max_iterations: int = eqx.field(static=True, default=2000)
     preconditioned: bool = eqx.field(static=True, default=True)
+    spectrum: MeasuredSpectrum | None = None
 
     def __check_init__(self):
         check_grid_points(self.grid)
@@ -71,6 +76,8 @@ class BEM(AbstractSweptModel):
         check_range("relative_step", self.relative_step, 0.0, 0.5, low_open=False)
         check_range("rolloff", self.rolloff, 0.0, 64.0, low_open=False)
         check_iteration(self.tolerance, self.max_iterations)
+        if self.spectrum is not None:
+            check_instance("spectrum", self.spectrum, MeasuredSpectrum)
 
     def unloads_as_it_loads(self):
         # Elastic: unloading retraces loading. A capped surface keeps its flattening (a load path).
@@ -85,6 +92,8 @@ class BEM(AbstractSweptModel):
     def _heights(self, s, dtype):
         """Each realisation's heights in units of L = sqrt(A_a), from the dimensionless scene `s`."""
         seeds = tuple(range(self.seed, self.seed + self.realisations))
+        if self.spectrum is not None:
+            return spectrum_heights(self.spectrum, s.log_length, self.grid, seeds, self.rolloff, dtype)
         return synthesised_heights(s.D, s.log_G, s.log_a_min, self.grid, seeds, self.rolloff, dtype)
 
     def heights(self, scene):
@@ -94,8 +103,13 @@ class BEM(AbstractSweptModel):
         return self._heights(nondimensionalise(scene), dtype) * jnp.sqrt(jnp.asarray(scene.area, dtype))
 
     def _resolved(self, s):
-        """Whether l_min spans `PIXELS_PER_L_MIN` grid spacings (else every point is flagged)."""
-        return 0.5 * s.log_a_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
+        """Whether l_min (a measured spectrum's shortest wavelength) spans `PIXELS_PER_L_MIN` grid
+        spacings (else every point is flagged)."""
+        if self.spectrum is None:
+            log_l_min = 0.5 * s.log_a_min
+        else:
+            log_l_min = math.log(2 * math.pi) - self.spectrum.log_q[-1] - s.log_length
+        return log_l_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
 
     def path_solver(self, s):
         dtype = jnp.result_type(s.D)

@@ -53,6 +53,19 @@ def _wavevectors(grid: int) -> np.ndarray:
     return 2 * math.pi * np.sqrt(k[:, None] ** 2 + k[None, :] ** 2)
 
 
+def _cutoff(q, q_max, rolloff: float, dtype):
+    """The spectrum's short end at `q_max` (module docstring): sharp, or smooth over `rolloff` modes."""
+    if rolloff > 0:
+        return 0.5 * erfc((q - q_max) / (rolloff * 2 * math.pi))
+    return (q <= q_max * (1 + 1e-9)).astype(dtype)  # a mode on the cutoff is kept, as SurfaceTopography keeps it
+
+
+def _realised(amplitude, grid: int, seeds: tuple[int, ...]):
+    """Heights (`realisations × grid × grid`) of the Fourier amplitudes `√C*` times each seed's noise."""
+    noises = jnp.asarray(np.stack([noise(seed, grid) for seed in seeds]), complex_dtype(amplitude.dtype))
+    return jnp.real(jnp.fft.ifft2(amplitude.astype(noises.dtype) * noises))
+
+
 def synthesised_heights(D, log_G, log_a_min, grid: int, seeds: tuple[int, ...], rolloff: float, dtype):
     """Heights in units of L (`realisations × grid × grid`) of the scene's surface, for each seed.
 
@@ -63,10 +76,15 @@ def synthesised_heights(D, log_G, log_a_min, grid: int, seeds: tuple[int, ...], 
     q_max = 2 * math.pi * jnp.exp(-0.5 * log_a_min)
     safe_q = jnp.where(q > 0, q, 1.0)
     amplitude = jnp.exp(0.5 * log_areal_prefactor(D, log_G) - (3.0 - D) * jnp.log(safe_q))
-    if rolloff > 0:
-        cut = 0.5 * erfc((q - q_max) / (rolloff * 2 * math.pi))
-    else:
-        cut = (q <= q_max * (1 + 1e-9)).astype(dtype)  # a mode on the cutoff is kept, as SurfaceTopography keeps it
-    amplitude = jnp.where(q > 0, amplitude * cut, 0.0)
-    noises = jnp.asarray(np.stack([noise(seed, grid) for seed in seeds]), complex_dtype(dtype))
-    return jnp.real(jnp.fft.ifft2(amplitude.astype(noises.dtype) * noises))
+    return _realised(jnp.where(q > 0, amplitude * _cutoff(q, q_max, rolloff, dtype), 0.0), grid, seeds)
+
+
+def spectrum_heights(spectrum, log_length, grid: int, seeds: tuple[int, ...], rolloff: float, dtype):
+    """The same for a measured spectrum (`jaxcontact.MeasuredSpectrum`) on a joint of side
+    `exp(log_length)` m: its piecewise power law from `2π/L` to the table's last point, the seeds'
+    normal amplitudes and uniform phases on it."""
+    q = jnp.asarray(_wavevectors(grid), dtype)
+    log_q = jnp.log(jnp.where(q > 0, q, 2 * math.pi))
+    amplitude = jnp.exp(0.5 * spectrum.log_C_at(log_q, log_length))
+    q_max = jnp.exp(spectrum.log_q[-1] + log_length)
+    return _realised(jnp.where(q > 0, amplitude * _cutoff(q, q_max, rolloff, dtype), 0.0), grid, seeds)

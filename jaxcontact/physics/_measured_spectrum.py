@@ -131,6 +131,13 @@ class MeasuredSpectrum(eqx.Module):
         lower = jnp.clip(jnp.concatenate([start[None], log_q[:-1]]), start, None)
         return lower, jnp.maximum(log_q, lower), anchor_C - slope * anchor_q, slope
 
+    def log_C_at(self, log_q, log_length):
+        """`ln C*` at `ln q*` (any shape, ≥ ln 2π) on the piecewise power law, the last bin's law
+        continued beyond the table (a caller cuts it there)."""
+        lower, upper, log_C0, slope = self._pieces(log_length)
+        k = jnp.clip(jnp.searchsorted(upper, log_q), 0, upper.shape[0] - 1)
+        return log_C0[k] + slope[k] * log_q
+
     def profile_moments(self, log_length):
         """McCool's `(m0, m2, m4)` of a line scan (`m0 = M0`, `m2 = M2/2`, `m4 = 3 M4/8`, with
         `M_k = (1/2π) ∫ q^(k+1) C2D dq` over the whole band), in the scene's units, exact for the
