@@ -103,6 +103,7 @@ LONGEST_FIRST = (
     "test_bem_tangential.py",
     "test_load_path.py",
     "test_measured_spectrum.py",
+    "test_spectrum_validation.py",
     "test_tangential_cycle.py",
     "test_in_service.py",
     "test_measured_asperities.py",

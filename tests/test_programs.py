@@ -341,3 +341,20 @@ def test_an_editable_installs_key_changes_with_its_version_too(monkeypatch):
     assert _identity(monkeypatch, _Installed("9.9.9", EDITABLE)) != _identity(
         monkeypatch, _Installed("9.9.8", EDITABLE)
     )
+
+
+def test_a_stored_solve_is_kept_per_length_of_a_models_table(tmp_path):
+    # The command line's store: two scenes of one structure whose spectra differ in length.
+    from jaxcontact.cli import _exported as exported
+
+    q = np.geomspace(1e5, 1e7, 40)
+
+    def stiffness(points):
+        spectrum = jc.MeasuredSpectrum(q[:points], 1e-30 * (q[:points] / 1e5) ** -3.2)
+        scene = make_scene(**dict(TABLE1, model=jc.Persson(spectrum=spectrum)))
+        return float(jc.solve(scene, 1.0).stiffness)
+
+    expected = stiffness(20)
+    with exported.exported_programs(tmp_path):
+        stiffness(40)
+        assert stiffness(20) == expected

@@ -24,7 +24,8 @@ from ._fit_commands import cmd_fit
 from ._interface_command import add_interface_options, cmd_interface
 from ._output import CommandError
 from ._process import command_settings, plotting_imported_while_compiling, warnings_as_lines
-from ._study_commands import cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
+from ._spectrum_command import register as register_spectrum_command
+from ._study_commands import add_bench_options, cmd_accuracy, cmd_bench, cmd_figures, cmd_sweep
 from ._surface_commands import add_topography_options, cmd_surface
 from ._topography_run import add_run_topography_options
 
@@ -199,26 +200,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = scene_command(
         "bench", "time the compiled model: speed against scipy, each effect's cost", cmd_bench, "jaxcontact-out"
     )
-    p.add_argument(
-        "--bem",
-        action="store_true",
-        help="time the JAX boundary-element solve against ContactMechanics instead (minutes; the JAX solve "
-        "alone where ContactMechanics is not installed)",
-    )
-    p.add_argument(
-        "--bem-grids",
-        type=int,
-        nargs="+",
-        default=[256, 512, 1024],
-        metavar="N",
-        help="with --bem: the grids timed (default 256 512 1024)",
-    )
-    p.add_argument(
-        "--fit-batch",
-        type=int,
-        metavar="CURVES",
-        help="time fitting.fit_batch on this many 30-point curves against looping fitting.fit instead (minutes)",
-    )
+    add_bench_options(p)
+    register_spectrum_command(command, common)
     for command in sub.choices.values():
         command.set_defaults(options_by_name=_options_by_name(command))
     return parser

@@ -8,6 +8,29 @@ import sys
 from ._output import CommandError, print_result, progress_bar
 
 
+def add_bench_options(p) -> None:
+    p.add_argument(
+        "--bem",
+        action="store_true",
+        help="time the JAX boundary-element solve against ContactMechanics instead (minutes; the JAX solve "
+        "alone where ContactMechanics is not installed)",
+    )
+    p.add_argument(
+        "--bem-grids",
+        type=int,
+        nargs="+",
+        default=[256, 512, 1024],
+        metavar="N",
+        help="with --bem: the grids timed (default 256 512 1024)",
+    )
+    p.add_argument(
+        "--fit-batch",
+        type=int,
+        metavar="CURVES",
+        help="time fitting.fit_batch on this many 30-point curves against looping fitting.fit instead (minutes)",
+    )
+
+
 def cmd_figures(args) -> int:
     from ..studies._figures import make_figures
 

@@ -79,7 +79,9 @@ class _Program:
         if not store.keeping():
             return self.flat(leaves, loads)
         kept = store.current_store()
-        key = (kept, loads.shape, loads.dtype)
+        # Leaves are scalars but for a model's tables (a measured spectrum, summit heights), whose
+        # lengths vary from scene to scene of one structure: a compiled program holds one length.
+        key = (kept, loads.shape, loads.dtype, tuple(jnp.shape(leaf) for leaf in leaves))
         if key not in self.on_disk:
             args = ("solve", self.name, self.function, (leaves, loads))
             if loads.size < kept.short_compile_below:  # its executable is kept too: nothing to lower

@@ -1,0 +1,123 @@
+"""The measured spectrum as the models' input, validated on a measured map (docs/validation.md).
+
+For one areal file: read it (undefined points filled), remove its form (`Curvature()`), characterise
+it, and take its binned C2D over the band, cut where the BEM's grid stops resolving it (`l_min` at 4
+grid spacings of the map's side), as a `MeasuredSpectrum` rolled off below. The joint is the map's
+area. At loads where Persson's theory on that spectrum puts the contact at each of `fractions`:
+
+- the BEM on `realisations` periodic realisations of the same spectrum (`BEM(spectrum=...)`): their
+  mean K, its spread and their contact fraction;
+- Persson and GW on the spectrum, and Persson on the power-law route (the fitted D and G, l_min at
+  the same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean.
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+
+import numpy as np
+
+# The contact fractions of the validation (docs/validation.md).
+FRACTIONS = (0.005, 0.015, 0.05, 0.15)
+PIXELS_PER_L_MIN = 4
+
+
+class SpectrumSkipped(Exception):
+    """A file the validation cannot use (a line scan, or a band the grid cannot hold); the message says why."""
+
+
+def _spectrum(characterisation, cut: float):
+    """The characterisation's C2D over its band, up to the wavevector of `cut` (m)."""
+    from ..physics import MeasuredSpectrum
+
+    q, C = (np.asarray(x, dtype=float) for x in characterisation.spectrum)
+    long = characterisation.band[1]
+    keep = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / cut * (1 + 1e-9)) & (C > 0)
+    if keep.sum() < 2:
+        raise SpectrumSkipped(
+            f"the band ({characterisation.band[0]:.3g}, {long:.3g}) m holds fewer than 2 bins longer than "
+            f"{cut:.3g} m, the shortest wavelength the grid resolves"
+        )
+    return MeasuredSpectrum(q[keep], C[keep])
+
+
+def _loads(scene, fractions) -> np.ndarray:
+    """Loads (N) at which Persson's theory on the scene's spectrum puts the contact at `fractions`
+    (`A_r/A_a = erf(w(q1) p/E)`, linear in the load inside the erf)."""
+    from scipy.special import erfinv
+
+    from ..core import solve
+
+    unit = float(scene.material.E) * float(scene.area)
+    probe = 1e-6
+    area = float(solve(scene, probe * unit).real_area) / float(scene.area)
+    return np.array([erfinv(f) / (erfinv(area) / probe) * unit for f in fractions])
+
+
+def _status(statuses: dict, i: int) -> str:
+    """ "ok", or each route whose point i is flagged, with its status."""
+    from ..quantities import status_message
+
+    flagged = [f"{k} {status_message(int(v[i]))}" for k, v in statuses.items() if int(np.asarray(v)[i]) != 0]
+    return "; ".join(flagged) or "ok"
+
+
+def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractions=FRACTIONS, modulus=None):
+    """Rows (one per fraction) of the validation of one file (module docstring).
+
+    **Arguments:** `path`, an areal topography file; `grid` and `realisations` of the BEM; the target
+    contact `fractions`; `modulus`, E* in Pa (default two steel bodies, 210 GPa and ν = 0.3).
+
+    **Raises:** `SpectrumSkipped` for a line scan or a band the grid cannot hold.
+    """
+    from ..bem import BEM
+    from ..core import Scene, solve
+    from ..models import GreenwoodWilliamson, Persson
+    from ..quantities import Material, Surface
+    from ..topography import Curvature, characterise, read, separate, stiffness_band
+
+    topography = read(path, fill_undefined=True)
+    if topography.dim != 2:
+        raise SpectrumSkipped("a line scan: the BEM needs an areal map")
+    roughness = separate(topography, Curvature(), None).roughness
+    c = characterise(roughness)
+    side = math.sqrt(float(np.prod(roughness.physical_sizes)))
+    cut = max(c.band[0], PIXELS_PER_L_MIN * side / grid)
+    spectrum = _spectrum(c, cut)
+    E = 210e9 / (1 - 0.3**2) if modulus is None else modulus
+    # Every model compared is elastic: the hardness is not used.
+    scene = Scene(Surface(D=c.D, G=c.G, l_min=cut), Material(E=E, nu=0.3, H=3e9), side * side)
+    measured = scene.with_model(Persson(spectrum=spectrum))
+    loads = _loads(measured, fractions)
+    bem = [
+        solve(scene.with_model(BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum)), loads)
+        for seed in range(realisations)
+    ]
+    K = np.array([np.asarray(b.stiffness) for b in bem])
+    area = np.array([np.asarray(b.real_area) for b in bem]) / (side * side)
+    persson = solve(measured, loads)
+    gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
+    band = stiffness_band(c, scene.with_model(Persson()), loads)
+    mean = K.mean(axis=0)
+    name = pathlib.Path(path).name
+    statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
+    statuses["power_law"] = band.status
+    return [
+        {
+            "file": name,
+            "D": c.D,
+            "l_min_m": cut,
+            "load_N": float(loads[i]),
+            "contact_fraction_bem": float(area[:, i].mean()),
+            "K_bem_N_per_m": float(mean[i]),
+            "K_bem_spread": float(K[:, i].std() / mean[i]),
+            "persson_spectrum_over_bem": float(persson.stiffness[i] / mean[i]),
+            "gw_spectrum_over_bem": float(gw.stiffness[i] / mean[i]),
+            "persson_power_law_over_bem": float(band.stiffness[i] / mean[i]),
+            "power_law_band_low_over_bem": float(band.lower[i] / mean[i]),
+            "power_law_band_high_over_bem": float(band.upper[i] / mean[i]),
+            "status": _status(statuses, i),
+        }
+        for i in range(len(loads))
+    ]

@@ -1,0 +1,39 @@
+"""The measured spectrum as the models' input on real maps (docs/validation.md): on two of the real
+files, on 128² (the command's default), Persson's theory on the map's measured spectrum within ±30 % of the BEM on
+periodic realisations of the same spectrum; the command on a line scan says why it skips it.
+Skipped where ../shared/data is absent."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+from jaxcontact.cli import main
+from jaxcontact.studies._spectrum_validation import spectrum_validation
+
+FILES = pathlib.Path(__file__).resolve().parents[2] / "shared" / "data" / "topographies"
+pytestmark = pytest.mark.skipif(not FILES.is_dir(), reason="the real topographies (../shared/data) are not here")
+
+
+@pytest.fixture(scope="module", params=["opd-1.opd", "plu-1.plu"])
+def rows(request):
+    return spectrum_validation(FILES / request.param, grid=128, realisations=2)
+
+
+def test_the_bem_and_persson_have_every_point(rows):
+    assert [row["status"].split(";")[0].split(" ")[0] for row in rows if row["status"] != "ok"] in ([], ["gw"])
+
+
+def test_persson_on_the_measured_spectrum_is_within_30_percent_of_the_bem(rows):
+    ratios = np.array([row["persson_spectrum_over_bem"] for row in rows])
+    assert np.all((ratios > 0.7) & (ratios < 1.3)), ratios
+
+
+def test_the_bems_contact_spans_the_fractions_asked_for(rows):
+    fractions = np.array([row["contact_fraction_bem"] for row in rows])
+    assert fractions.min() < 0.015 and fractions.max() > 0.15
+
+
+def test_the_command_says_why_it_skips_a_line_scan(tmp_path, capsys):
+    assert main(["validate-spectrum", str(FILES / "dektak-1.csv"), "--out", str(tmp_path)]) == 0
+    assert "dektak-1.csv: skipped: a line scan: the BEM needs an areal map" in capsys.readouterr().out
