@@ -192,3 +192,21 @@ def test_a_maps_characterisation_gives_the_spectrums_persson():
     surface = jc.Surface(D=D, G=G, l_min=found.band[0])
     closed = jc.solve(jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), AREA, model=jc.Persson()), LOADS)
     np.testing.assert_allclose(np.asarray(measured.stiffness), np.asarray(closed.stiffness), rtol=3e-2)
+
+
+def test_the_spectrums_band_is_the_delta_method_by_central_differences(kinked_table):
+    from jaxcontact.topography import spectrum_band
+
+    variance = np.linspace(0.01, 0.04, kinked_table.log_C.size)
+    table = jc.MeasuredSpectrum(np.exp(kinked_table.log_q), np.exp(kinked_table.log_C), variance=variance)
+    scene = scene_of(jc.Persson(spectrum=table))
+    band = spectrum_band(scene, LOADS[1:2])
+
+    def log_K(i, step):
+        moved = eqx.tree_at(lambda s: s.model.spectrum.log_C, scene, table.log_C.at[i].add(step))
+        return math.log(float(jc.solve(moved, LOADS[1]).stiffness))
+
+    h = 1e-4
+    slopes = np.array([(log_K(i, h) - log_K(i, -h)) / (2 * h) for i in range(table.log_C.size)])
+    half_width = 1.959963984540054 * math.sqrt(float(np.sum(slopes**2 * variance)))
+    np.testing.assert_allclose(math.log(float(band.upper[0] / band.stiffness[0])), half_width, rtol=1e-5)

@@ -205,11 +205,12 @@ def scan_run(tmp_path_factory):
     argv = ["run", "--topography", str(data), "--size", "1e-5", "1e-5", "--out", str(folder / "o")]
     with contextlib.redirect_stdout(io.StringIO()) as out:
         assert main([*argv, "--format", "json", "--no-progress"]) == 0
-    return folder / "o", json.loads(out.getvalue())["rows"]
+    payload = json.loads(out.getvalue())
+    return folder / "o", payload["rows"], payload["notes"]
 
 
 def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(scan_run):
-    folder, rows = scan_run
+    folder, rows, _ = scan_run
     positive = [row for row in rows if row["status"] == "ok" and row["K_N_per_m"] > 0]
     assert len(positive) > 10
     assert all(row["K_lower_95_N_per_m"] < row["K_N_per_m"] < row["K_upper_95_N_per_m"] for row in positive)
@@ -219,8 +220,13 @@ def test_run_goes_from_a_scan_to_a_stiffness_table_with_its_band(scan_run):
 @pytest.mark.parametrize("model", ["xia2024", "jzz2010", "gw"])
 def test_each_other_models_value_has_its_own_status_beside_it(scan_run, model):
     """A value where the status says ok, and a status that says why where there is none."""
-    _, rows = scan_run
+    _, rows, _ = scan_run
     assert all((row[f"status_{model}"] == "ok") == (row[f"K_{model}_N_per_m"] is not None) for row in rows)
+
+
+def test_run_solves_on_the_measured_spectrum_by_default_and_says_so(scan_run):
+    _, _, notes = scan_run
+    assert any(note.startswith("route: the measured spectrum") for note in notes)
 
 
 @needs_topographies

@@ -10,6 +10,13 @@ import numpy as np
 
 # Models left out of the comparison, and why (each is a few minutes per curve, not seconds).
 NOT_COMPARED = {"bem": "the boundary-element model solves the surface itself: jaxcontact compare --topography FILE"}
+# The models that solve on a measured spectrum, and what the measured route gave against the BEM
+# on realisations of the spectrum of the six real areal maps (docs/validation.md).
+SPECTRUM_MODELS = ("persson", "gw")
+MEASURED_AGREEMENT = {
+    "persson": "0.72-1.14 of the BEM at 1-23 % contact",
+    "gw": "0.67-1.13 of the BEM below 10 % contact, 0.53-0.63 above",
+}
 
 
 def add_run_topography_options(p) -> None:
@@ -21,6 +28,12 @@ def add_run_topography_options(p) -> None:
         choices=tuple(MODELS),
         help=f"the contact model (default with --topography: {CLOSEST_TO_BEM}, the closest to the boundary-element "
         "reference in docs/validation.md; without: the scene's)",
+    )
+    p.add_argument(
+        "--route",
+        choices=("spectrum", "power-law"),
+        help="with --topography: the surface as its measured spectrum (default, for persson and gw) or as the "
+        "power law fitted to it (D, G, l_min; the seed model and jzz2010 take only this)",
     )
     p.add_argument("--l-min", type=float, help="l_min in m (default: the fit band's short end, or the scene's)")
     p.add_argument("--modulus", type=float, help="contact modulus E in Pa (default: the scene's)")
@@ -67,29 +80,68 @@ def zero_note(name: str, solution) -> str | None:
     return f"{name}: no value at any load ({status_message(int(status[status != 0][0]))})"
 
 
+def _measured(c, l_min):
+    """The characterisation's measured spectrum, cut at `l_min` where that is longer than its band's end."""
+    from ..physics import MeasuredSpectrum
+
+    spectrum = MeasuredSpectrum.from_characterisation(c)
+    if l_min <= c.band[0]:
+        return spectrum
+    keep = spectrum.log_q <= np.log(2 * np.pi / l_min) + 1e-9
+    return MeasuredSpectrum(
+        np.exp(spectrum.log_q[keep]), np.exp(spectrum.log_C[keep]), variance=spectrum.variance[keep]
+    )
+
+
+def _with_spectrum(scene, spectrum):
+    """The scene's model (persson or gw) solving on `spectrum`."""
+    import equinox as eqx
+
+    return eqx.tree_at(lambda s: s.model.spectrum, scene, spectrum, is_leaf=lambda x: x is None)
+
+
 def topography_run(spec, args):
     """The scene of `spec` on the characterised surface with the chosen model and material, K(F)'s 95 %
-    band, the other models' solutions at the same loads (by name), and notes (one line each)."""
+    band, the other models' solutions at the same loads (by name), and notes (one line each). On the
+    spectrum route (the default) persson and gw solve on the measured spectrum and the band is its
+    own (`spectrum_band`); on the power-law route every model has (D, G, l_min) and the band is
+    theirs (`stiffness_band`)."""
     from ..core import solve
     from ..models import MODELS
     from ..quantities import Surface
-    from ..topography import stiffness_band
+    from ..topography import spectrum_band, stiffness_band
     from ._surface_commands import CLOSEST_TO_BEM, characterise_file
 
     topography, c = characterise_file(args)
     surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
     model = args.model or CLOSEST_TO_BEM
+    measured = (args.route or "spectrum") == "spectrum"
+    spectrum = _measured(c, float(surface.l_min)) if measured else None
     scene = _scene(spec.scene, model, surface, args)
     name = pathlib.Path(args.topography).name
     title = f"{name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {surface.l_min:.4g} m; model {model}"
-    band = stiffness_band(c, scene, spec.loads)
     why = " (the closest to the boundary-element reference, docs/validation.md; --model to choose)"
     notes = [f"model: {model}" + ("" if args.model else why), topography.info["separation"]]
+    if measured and model in SPECTRUM_MODELS:
+        scene = _with_spectrum(scene, spectrum)
+        band = spectrum_band(scene, spec.loads)
+        notes.append(
+            f"route: the measured spectrum ({spectrum.log_q.size} bins over the band, rolled off below; 95 % band "
+            f"from each bin's uncertainty); on the real areal maps {model} on this route was "
+            f"{MEASURED_AGREEMENT[model]} (docs/validation.md); --route power-law for D, G, l_min"
+        )
+    else:
+        band = stiffness_band(c, scene, spec.loads)
+        reason = f"{model} takes D, G, l_min only" if measured else "--route power-law"
+        notes.append(f"route: the power law fitted to the spectrum ({reason}; 95 % band from D and G's covariance)")
     others = {}
     for other in MODELS:
         if other == model or other in NOT_COMPARED:
             continue
-        others[other] = solve(_scene(spec.scene, other, surface, args), spec.loads)
+        other_scene = _scene(spec.scene, other, surface, args)
+        if measured and other in SPECTRUM_MODELS:
+            other_scene = _with_spectrum(other_scene, spectrum)
+        others[other] = solve(other_scene, spec.loads)
     notes += [note for note in (zero_note(k, solution) for k, solution in others.items()) if note]
     notes += [f"{k}: not compared: {why}" for k, why in NOT_COMPARED.items() if k != model]
     spec = dataclasses.replace(spec, scene=scene, title=title)

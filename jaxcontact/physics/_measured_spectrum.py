@@ -79,6 +79,8 @@ class MeasuredSpectrum(eqx.Module):
       `<h²> = (2π)^-2 ∫ C2D d²q`).
     - `long_end`: `Rolloff()` (default) or `PowerLawEnd(D)`, the law from the table's first point
       down to the joint's `q0 = 2π/√A_a`.
+    - `variance`: None, or the variance of each point's ln C2D (its measurement's uncertainty, for
+      `jaxcontact.topography.spectrum_band`).
 
     The table's values are arrays: `jax.grad` reaches `log_C` (ln C2D) through `eqx.tree_at`.
     """
@@ -86,8 +88,9 @@ class MeasuredSpectrum(eqx.Module):
     log_q: Float[Array, " bins"]
     log_C: Float[Array, " bins"]
     long_end: AbstractLongEnd = Rolloff()
+    variance: Float[Array, " bins"] | None = None
 
-    def __init__(self, q, C2D, long_end: AbstractLongEnd = Rolloff()):
+    def __init__(self, q, C2D, long_end: AbstractLongEnd = Rolloff(), variance=None):
         q_values, c_values = np.asarray(q, dtype=float), np.asarray(C2D, dtype=float)
         if q_values.ndim != 1 or q_values.shape != c_values.shape or q_values.size < 2:
             raise InputError(
@@ -102,13 +105,19 @@ class MeasuredSpectrum(eqx.Module):
             raise InputError("C2D must be finite and positive (m⁴) at every q")
         if not isinstance(long_end, AbstractLongEnd):
             raise InputError(f"long_end = {long_end!r} must be Rolloff() or PowerLawEnd(D)")
+        if variance is not None:
+            variance = np.asarray(variance, dtype=float)
+            if variance.shape != q_values.shape or not np.all(variance >= 0):
+                raise InputError(f"variance has shape {variance.shape}: give one value >= 0 per q (var of ln C2D)")
+            variance = jnp.asarray(variance)
         self.log_q, self.log_C = jnp.asarray(np.log(q_values)), jnp.asarray(np.log(c_values))
-        self.long_end = long_end
+        self.long_end, self.variance = long_end, variance
 
     @classmethod
     def from_characterisation(cls, characterisation, long_end: AbstractLongEnd = Rolloff()) -> MeasuredSpectrum:
         """The binned `C2D` of an areal map's characterisation (`jaxcontact.topography.characterise`)
-        over its band (from `2π/band[1]` to `2π/band[0]`, the reliable one)."""
+        over its band (from `2π/band[1]` to `2π/band[0]`, the reliable one), with each bin's variance
+        of ln C where the characterisation has it."""
         if getattr(characterisation.kind, "name", "") != "areal":
             raise InputError(
                 f"the characterisation is of a {characterisation.kind.name} measurement: a measured spectrum needs "
@@ -117,7 +126,8 @@ class MeasuredSpectrum(eqx.Module):
         q, C = (np.asarray(x, dtype=float) for x in characterisation.spectrum)
         short, long = characterisation.band
         inside = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / short * (1 + 1e-9)) & (C > 0)
-        return cls(q[inside], C[inside], long_end)
+        variance = getattr(characterisation, "spectrum_variance", None)
+        return cls(q[inside], C[inside], long_end, None if variance is None else np.asarray(variance)[inside])
 
     def _pieces(self, log_length):
         """The piecewise power law in the scene's units: per piece (the long end's from `q0* = 2π`

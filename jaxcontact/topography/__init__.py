@@ -19,7 +19,7 @@ from ._result import Characterisation
 from ._separate import AbstractForm, Curvature, Mean, Polynomial, Separated, Tilt, mirrored, separate
 from ._stitch import characterise_stitched
 from ._synthesis import areal_map, random_profile, wm_profile
-from ._uncertainty import StiffnessBand, stiffness_band
+from ._uncertainty import StiffnessBand, spectrum_band, stiffness_band
 
 __all__ = [
     "CONVENTIONS",
@@ -49,6 +49,7 @@ __all__ = [
     "random_profile",
     "read",
     "separate",
+    "spectrum_band",
     "stiffness_band",
     "structure_function_constant",
     "wm_profile",

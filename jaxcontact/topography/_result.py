@@ -31,7 +31,9 @@ class Characterisation:
     Gaussian transfer function `exp(-(qσ)²)` corrected in the band, or None); `floor` (a white noise
     level of the spectrum subtracted, or 0); `local_slope` (q and the local D along the spectrum, for
     the plot, or None); `power_law` (the fitted `ln C = intercept + slope ln q` as (slope, intercept,
-    their covariance), where the region of `covers` is formed, or None).
+    their covariance), where the region of `covers` is formed, or None); `spectrum_variance` (the
+    variance of each bin's ln C in `spectrum`, ψ'(modes/scatter) of its Gamma-distributed mean, where
+    the PSD method gave it, else None).
     """
 
     D: float
@@ -57,6 +59,7 @@ class Characterisation:
     floor: float = 0.0
     local_slope: tuple[np.ndarray, np.ndarray] | None = None
     power_law: tuple[float, float, np.ndarray] | None = None
+    spectrum_variance: np.ndarray | None = None
 
     @classmethod
     def fitted(cls, method: str, D: float, log_G: float, band, covariance, dof: int, held: bool = False, **rest):
