@@ -27,6 +27,32 @@ class StiffnessBand:
     status: np.ndarray
 
 
+def _log_stiffness(moved, loads):
+    """`x ↦ (ln K at loads of the scene `moved(x)`, its solution)`, for `jax.jacfwd(has_aux=True)`."""
+
+    def log_stiffness(x):
+        solution = solve(moved(x), loads)
+        # K = 0 (every spot plastic) has no logarithm; its band is [0, 0].
+        usable = solution.ok & (solution.stiffness > 0)
+        return jnp.log(jnp.where(usable, solution.stiffness, 1.0)), solution
+
+    return log_stiffness
+
+
+def _band(loads, solution, spread) -> StiffnessBand:
+    """K at the solution's points with the band `K e^(±spread)` (K = 0: [0, 0]; flagged: NaN)."""
+    ok = np.asarray(solution.ok)
+    K = np.where(ok, np.asarray(solution.stiffness), np.nan)
+    spread = np.where(K > 0, spread, 0.0)
+    return StiffnessBand(
+        load=loads,
+        stiffness=K,
+        lower=np.where(ok, K * np.exp(-spread), np.nan),
+        upper=np.where(ok, K * np.exp(spread), np.nan),
+        status=np.asarray(solution.status),
+    )
+
+
 def stiffness_band(characterisation, scene, loads) -> StiffnessBand:
     """K(F) on `scene` with its surface replaced by the characterised one, and a 95 % band.
 
@@ -42,27 +68,14 @@ def stiffness_band(characterisation, scene, loads) -> StiffnessBand:
     loads = np.asarray(loads, dtype=float)
     dtype = jnp.result_type(1.0)
 
-    def log_stiffness(theta):
-        moved = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (theta[0], jnp.exp(theta[1])))
-        solution = solve(moved, loads)
-        # K = 0 (every spot plastic) has no logarithm; its band is [0, 0].
-        usable = solution.ok & (solution.stiffness > 0)
-        return jnp.log(jnp.where(usable, solution.stiffness, 1.0)), solution
-
+    log_stiffness = _log_stiffness(
+        lambda theta: eqx.tree_at(lambda s: (s.surface.D, s.surface.G), scene, (theta[0], jnp.exp(theta[1]))), loads
+    )
     theta = jnp.asarray([characterisation.D, np.log(characterisation.G)], dtype)
     gradient, solution = jax.jacfwd(log_stiffness, has_aux=True)(theta)
     variance = jnp.einsum("ni,ij,nj->n", gradient, jnp.asarray(characterisation.covariance, dtype), gradient)
     spread = stats.t.ppf(0.975, characterisation.dof) * np.sqrt(np.maximum(np.asarray(variance), 0.0))
-    ok = np.asarray(solution.ok)
-    K = np.where(ok, np.asarray(solution.stiffness), np.nan)
-    spread = np.where(K > 0, spread, 0.0)
-    return StiffnessBand(
-        load=loads,
-        stiffness=K,
-        lower=np.where(ok, K * np.exp(-spread), np.nan),
-        upper=np.where(ok, K * np.exp(spread), np.nan),
-        status=np.asarray(solution.status),
-    )
+    return _band(loads, solution, spread)
 
 
 def spectrum_band(scene, loads) -> StiffnessBand:
@@ -83,22 +96,9 @@ def spectrum_band(scene, loads) -> StiffnessBand:
         )
     loads = np.asarray(loads, dtype=float)
 
-    def log_stiffness(log_C):
-        solution = solve(eqx.tree_at(lambda s: s.model.spectrum.log_C, scene, log_C), loads)
-        usable = solution.ok & (solution.stiffness > 0)
-        return jnp.log(jnp.where(usable, solution.stiffness, 1.0)), solution
-
+    log_stiffness = _log_stiffness(lambda log_C: eqx.tree_at(lambda s: s.model.spectrum.log_C, scene, log_C), loads)
     gradient, solution = jax.jacfwd(log_stiffness, has_aux=True)(spectrum.log_C)
     # A bin without modes (infinite variance) that K does not depend on adds nothing.
     weights = jnp.where(gradient != 0, gradient**2 * spectrum.variance, 0.0)
     spread = 1.959963984540054 * np.sqrt(np.asarray(jnp.sum(weights, axis=-1)))
-    ok = np.asarray(solution.ok)
-    K = np.where(ok, np.asarray(solution.stiffness), np.nan)
-    spread = np.where(K > 0, spread, 0.0)
-    return StiffnessBand(
-        load=loads,
-        stiffness=K,
-        lower=np.where(ok, K * np.exp(-spread), np.nan),
-        upper=np.where(ok, K * np.exp(spread), np.nan),
-        status=np.asarray(solution.status),
-    )
+    return _band(loads, solution, spread)
