@@ -12,6 +12,7 @@ COLUMNS = (
     "contact_fraction_bem",
     "K_bem_N_per_m",
     "K_bem_spread",
+    "map_bem_over_bem",
     "persson_spectrum_over_bem",
     "gw_spectrum_over_bem",
     "persson_power_law_over_bem",

@@ -8,7 +8,10 @@ area. At loads where Persson's theory on that spectrum puts the contact at each 
 - the BEM on `realisations` periodic realisations of the same spectrum (`BEM(spectrum=...)`): their
   mean K, its spread and their contact fraction;
 - Persson and GW on the spectrum, and Persson on the power-law route (the fitted D and G, l_min at
-  the same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean.
+  the same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean;
+- the BEM on the map itself, made periodic by its mirror images: the largest square of it (square
+  pixels only), mirrored, Fourier-truncated to `2 grid` points a side (so that it holds wavelengths
+  down to 2 grid spacings of the square, shorter than the table's cut), at the same nominal pressure.
 """
 
 from __future__ import annotations
@@ -53,6 +56,27 @@ def _loads(scene, fractions) -> np.ndarray:
     probe = 1e-6
     area = float(solve(scene, probe * unit).real_area) / float(scene.area)
     return np.array([erfinv(f) / (erfinv(area) / probe) * unit for f in fractions])
+
+
+def _map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
+    """K (N/m, NaN where not ok) of the mirrored map at `loads` on the joint's `area` (module
+    docstring), or None for a map whose pixels are not square."""
+    from ..bem import solve
+
+    z = np.asarray(roughness.heights(), dtype=float)
+    (nx, ny), (lx, ly) = z.shape, roughness.physical_sizes
+    if abs(lx / nx - ly / ny) > 1e-3 * lx / nx:
+        return None
+    m = min(nx, ny)
+    square = z[:m, :m] - z[:m, :m].mean()
+    tiled = np.block([[square, square[:, ::-1]], [square[::-1, :], square[::-1, ::-1]]])
+    n = min(2 * grid, 2 * m)
+    kept = np.r_[0 : n // 2, 2 * m - n // 2 : 2 * m]
+    heights = np.real(np.fft.ifft2(np.fft.fft2(tiled)[np.ix_(kept, kept)])) * (n / (2 * m)) ** 2
+    side = m * lx / nx
+    # The same nominal pressure on the mirrored square (four times the square's area).
+    solution = solve(heights, 2 * side, modulus, 4 * np.asarray(loads) * side**2 / area)
+    return np.where(np.asarray(solution.status) == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan)
 
 
 def _status(statuses: dict, i: int) -> str:
@@ -100,6 +124,8 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
     band = stiffness_band(c, scene.with_model(Persson()), loads)
     mean = K.mean(axis=0)
+    mirrored = _map_stiffness(roughness, grid, E, loads, side * side)
+    mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
     name = pathlib.Path(path).name
     statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
     statuses["power_law"] = band.status
@@ -112,6 +138,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
             "contact_fraction_bem": float(area[:, i].mean()),
             "K_bem_N_per_m": float(mean[i]),
             "K_bem_spread": float(K[:, i].std() / mean[i]),
+            "map_bem_over_bem": float(mirrored[i] / mean[i]),
             "persson_spectrum_over_bem": float(persson.stiffness[i] / mean[i]),
             "gw_spectrum_over_bem": float(gw.stiffness[i] / mean[i]),
             "persson_power_law_over_bem": float(band.stiffness[i] / mean[i]),
