@@ -62,6 +62,7 @@ def format_results(r: dict) -> str:
         *_interface_lines(r.get("interface"), verdict),
         *_cycle_lines(r.get("tangential_cycle"), verdict),
         *_path_lines(r.get("bem_path"), verdict),
+        *_spectrum_lines(r.get("measured_spectrum"), verdict),
         "",
         "what each effect costs (20000 loads):",
         f"{'variant':40s} {'compile (s)':>11s} {'run (ms)':>9s} {'vs leanest':>10s} {'points/s':>10s}",
@@ -106,6 +107,19 @@ def _path_lines(timing: dict | None, verdict) -> list[str]:
         f"capped BEM 256², 10-point load–unload path (median / best): {path['median_s']:.3f} / {path['best_s']:.3f} s; "
         f"bem.solve of the same loads {apart['median_s']:.3f} / {apart['best_s']:.3f} s; "
         f"{timing['over_solve']:.2f}x (target <= 1.5x: {verdict(timing['over_solve'] <= 1.5)})"
+    ]
+
+
+def _spectrum_lines(timing: dict | None, verdict) -> list[str]:
+    """Persson on a measured spectrum's line of the report (none where the run did not time it)."""
+    if not timing:
+        return []
+    table, closed = timing["table"], timing["closed"]
+    return [
+        f"Persson on a 200-point measured spectrum, 100 loads (median / best): {table['median_s'] * 1e3:.3f} / "
+        f"{table['best_s'] * 1e3:.3f} ms; closed form {closed['median_s'] * 1e3:.3f} / "
+        f"{closed['best_s'] * 1e3:.3f} ms; "
+        f"{timing['over_closed']:.2f}x (target <= 2x: {verdict(timing['over_closed'] <= 2.0)})"
     ]
 
 
