@@ -133,10 +133,10 @@ def test_gw_on_a_power_law_table_is_the_closed_form_gw():
 
 def test_the_bem_models_realisations_of_a_power_law_table_are_its_own():
     # The same seeds' noise on the same amplitudes: the same surfaces, the same stiffness.
-    q = np.geomspace(Q0, 2 * math.pi / (L / 16), 30)
-    surface = jc.Surface(D=D, G=G, l_min=L / 16)
-    closed = jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), AREA, model=jc.BEM(grid=64, realisations=1))
-    measured = closed.with_model(jc.BEM(grid=64, realisations=1, spectrum=jc.MeasuredSpectrum(q, power_law(q))))
+    q = np.geomspace(Q0, 2 * math.pi / (L / 8), 30)
+    surface = jc.Surface(D=D, G=G, l_min=L / 8)
+    closed = jc.Scene(surface, jc.Material(E=E, nu=0.3, H=3e9), AREA, model=jc.BEM(grid=32, realisations=1))
+    measured = closed.with_model(jc.BEM(grid=32, realisations=1, spectrum=jc.MeasuredSpectrum(q, power_law(q))))
     loads = np.array([1e-4, 1e-3]) * E * AREA
     np.testing.assert_allclose(
         np.asarray(jc.solve(measured, loads).stiffness), np.asarray(jc.solve(closed, loads).stiffness), rtol=1e-10
@@ -197,7 +197,10 @@ def test_a_maps_characterisation_gives_the_spectrums_persson():
 def test_the_spectrums_band_is_the_delta_method_by_central_differences(kinked_table):
     from jaxcontact.topography import spectrum_band
 
-    variance = np.linspace(0.01, 0.04, kinked_table.log_C.size)
+    # Ten bins with an uncertainty, the rest known: ten central differences check the sum.
+    variance = np.zeros(kinked_table.log_C.size)
+    chosen = np.arange(5, kinked_table.log_C.size, 12)[:10]
+    variance[chosen] = np.linspace(0.01, 0.04, chosen.size)
     table = jc.MeasuredSpectrum(np.exp(kinked_table.log_q), np.exp(kinked_table.log_C), variance=variance)
     scene = scene_of(jc.Persson(spectrum=table))
     band = spectrum_band(scene, LOADS[1:2])
@@ -207,8 +210,8 @@ def test_the_spectrums_band_is_the_delta_method_by_central_differences(kinked_ta
         return math.log(float(jc.solve(moved, LOADS[1]).stiffness))
 
     h = 1e-4
-    slopes = np.array([(log_K(i, h) - log_K(i, -h)) / (2 * h) for i in range(table.log_C.size)])
-    half_width = 1.959963984540054 * math.sqrt(float(np.sum(slopes**2 * variance)))
+    slopes = np.array([(log_K(i, h) - log_K(i, -h)) / (2 * h) for i in chosen])
+    half_width = 1.959963984540054 * math.sqrt(float(np.sum(slopes**2 * variance[chosen])))
     np.testing.assert_allclose(math.log(float(band.upper[0] / band.stiffness[0])), half_width, rtol=1e-5)
 
 
