@@ -218,13 +218,13 @@ def test_the_spectrums_band_is_the_delta_method_by_central_differences(kinked_ta
 def test_the_mirrored_map_of_a_symmetric_map_is_the_map_at_the_same_pressure():
     # A map that is its own mirror image: its mirrored copy is four of it, so K per area is its own.
     from jaxcontact import bem
-    from jaxcontact.studies._spectrum_validation import _map_stiffness
+    from jaxcontact.studies._spectrum_validation import mirrored_map_stiffness
 
     topography = pytest.importorskip("SurfaceTopography").Topography
     half = bem.synthesised_surface(1.5, 1e-11, L / 8, L / 2, 32, seed=3).heights()
     symmetric = np.block([[half, half[:, ::-1]], [half[::-1, :], half[::-1, ::-1]]])
     area = 3 * L * L  # the joint: three times the map
     loads = np.array([1e-4, 1e-3]) * E * area
-    got = _map_stiffness(topography(symmetric, (L, L), periodic=True), 64, E, loads, area)
+    got = mirrored_map_stiffness(topography(symmetric, (L, L), periodic=True), 64, E, loads, area)
     own = bem.solve(symmetric, L, E, loads * L * L / area).stiffness
     np.testing.assert_allclose(got, np.asarray(own) * area / (L * L), rtol=1e-6)

@@ -224,6 +224,14 @@ def test_each_other_models_value_has_its_own_status_beside_it(scan_run, model):
     assert all((row[f"status_{model}"] == "ok") == (row[f"K_{model}_N_per_m"] is not None) for row in rows)
 
 
+def test_run_checks_that_a_rough_maps_own_bem_grows_as_a_rough_surfaces(scan_run):
+    # A self-affine map (D = 1.5) with no form: its BEM grows as F^0.86-0.89 (docs/validation.md),
+    # above the 0.75 under which the output warns that the form carries the load.
+    _, _, notes = scan_run
+    (line,) = [note for note in notes if note.startswith("form check: the BEM on the map itself")]
+    assert float(line.split("F^")[1].split()[0]) > 0.75
+
+
 def test_run_solves_on_the_measured_spectrum_by_default_and_says_so(scan_run):
     _, _, notes = scan_run
     assert any(note.startswith("route: the measured spectrum") for note in notes)

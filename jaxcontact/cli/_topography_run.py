@@ -144,8 +144,36 @@ def topography_run(spec, args):
         others[other] = solve(other_scene, spec.loads)
     notes += [note for note in (zero_note(k, solution) for k, solution in others.items()) if note]
     notes += [f"{k}: not compared: {why}" for k, why in NOT_COMPARED.items() if k != model]
+    notes.append(form_check(topography, scene, spectrum))
     spec = dataclasses.replace(spec, scene=scene, title=title)
     return spec, band, others, notes
+
+
+FORM_CHECK_GRID = 64  # the mirrored map is solved on twice this a side
+
+
+def form_check(roughness, scene, spectrum) -> str:
+    """One line on whether the map's form carries the load: the BEM on the map itself (mirrored,
+    `FORM_CHECK_GRID`), at the loads where Persson puts 0.5-15 % of it in contact, grows as F^α;
+    below 0.75 (`form_note`) the line says so and what to remove."""
+    from ..models import Persson
+    from ..studies._spectrum_validation import FRACTIONS, mirrored_map_stiffness, persson_loads
+    from ._compare_measured import form_note
+
+    if roughness.dim != 2:
+        return "form check: none for a line scan (the BEM needs an areal map)"
+    loads = persson_loads(scene.with_model(Persson(spectrum=spectrum)), FRACTIONS)
+    K = mirrored_map_stiffness(roughness, FORM_CHECK_GRID, float(scene.material.E), loads, float(scene.area))
+    if K is None:
+        return "form check: none (the map's pixels are not square)"
+    ok = np.isfinite(K) & (K > 0)
+    if ok.sum() < 2:
+        return "form check: the BEM on the map gave fewer than two values"
+    alpha = float(np.polyfit(np.log(loads[ok]), np.log(K[ok]), 1)[0])
+    return form_note(loads[ok], K[ok]) or (
+        f"form check: the BEM on the map itself (mirrored, {2 * FORM_CHECK_GRID}²) grows as K ∝ F^{alpha:.2f} at "
+        "0.5-15 % contact, as a rough surface does"
+    )
 
 
 OVERRIDES = ("model", "l_min", "modulus", "poisson", "hardness", "area")

@@ -45,7 +45,7 @@ def _spectrum(characterisation, cut: float):
     return MeasuredSpectrum(q[keep], C[keep])
 
 
-def _loads(scene, fractions) -> np.ndarray:
+def persson_loads(scene, fractions) -> np.ndarray:
     """Loads (N) at which Persson's theory on the scene's spectrum puts the contact at `fractions`
     (`A_r/A_a = erf(w(q1) p/E)`, linear in the load inside the erf)."""
     from scipy.special import erfinv
@@ -58,7 +58,7 @@ def _loads(scene, fractions) -> np.ndarray:
     return np.array([erfinv(f) / (erfinv(area) / probe) * unit for f in fractions])
 
 
-def _map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
+def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
     """K (N/m, NaN where not ok) of the mirrored map at `loads` on the joint's `area` (module
     docstring), or None for a map whose pixels are not square."""
     from ..bem import solve
@@ -113,7 +113,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     # Every model compared is elastic: the hardness is not used.
     scene = Scene(Surface(D=c.D, G=c.G, l_min=cut), Material(E=E, nu=0.3, H=3e9), side * side)
     measured = scene.with_model(Persson(spectrum=spectrum))
-    loads = _loads(measured, fractions)
+    loads = persson_loads(measured, fractions)
     bem = [
         solve(scene.with_model(BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum)), loads)
         for seed in range(realisations)
@@ -124,7 +124,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
     band = stiffness_band(c, scene.with_model(Persson()), loads)
     mean = K.mean(axis=0)
-    mirrored = _map_stiffness(roughness, grid, E, loads, side * side)
+    mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
     mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
     name = pathlib.Path(path).name
     statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
