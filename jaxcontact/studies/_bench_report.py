@@ -98,29 +98,35 @@ def _cycle_lines(timing: dict | None, verdict) -> list[str]:
     ]
 
 
-def _path_lines(timing: dict | None, verdict) -> list[str]:
-    """The capped BEM path's line of the report (none where the run did not time it)."""
+def _against(timing: dict | None, verdict, what: tuple[str, str], names: tuple[str, str, str], target, unit):
+    """One line of the report: a call against its reference, median / best each, their ratio against
+    `target` (none where the run did not time it). `what`: the call's and the reference's labels;
+    `names`: their keys in `timing` and the ratio's; `unit`: "s" or "ms"."""
     if not timing:
         return []
-    path, apart = timing["path"], timing["solve"]
+    scale = 1e3 if unit == "ms" else 1.0
+    call, reference = (timing[name] for name in names[:2])
+    ratio = timing[names[2]]
+
+    def pair(t):
+        return f"{t['median_s'] * scale:.3f} / {t['best_s'] * scale:.3f} {unit}"
+
     return [
-        f"capped BEM 256², 10-point load–unload path (median / best): {path['median_s']:.3f} / {path['best_s']:.3f} s; "
-        f"bem.solve of the same loads {apart['median_s']:.3f} / {apart['best_s']:.3f} s; "
-        f"{timing['over_solve']:.2f}x (target <= 1.5x: {verdict(timing['over_solve'] <= 1.5)})"
+        f"{what[0]} (median / best): {pair(call)}; {what[1]} {pair(reference)}; "
+        f"{ratio:.2f}x (target <= {target:g}x: {verdict(ratio <= target)})"
     ]
+
+
+def _path_lines(timing: dict | None, verdict) -> list[str]:
+    """The capped BEM path's line of the report."""
+    what = ("capped BEM 256², 10-point load–unload path", "bem.solve of the same loads")
+    return _against(timing, verdict, what, ("path", "solve", "over_solve"), 1.5, "s")
 
 
 def _spectrum_lines(timing: dict | None, verdict) -> list[str]:
-    """Persson on a measured spectrum's line of the report (none where the run did not time it)."""
-    if not timing:
-        return []
-    table, closed = timing["table"], timing["closed"]
-    return [
-        f"Persson on a 200-point measured spectrum, 100 loads (median / best): {table['median_s'] * 1e3:.3f} / "
-        f"{table['best_s'] * 1e3:.3f} ms; closed form {closed['median_s'] * 1e3:.3f} / "
-        f"{closed['best_s'] * 1e3:.3f} ms; "
-        f"{timing['over_closed']:.2f}x (target <= 2x: {verdict(timing['over_closed'] <= 2.0)})"
-    ]
+    """Persson on a measured spectrum's line of the report."""
+    what = ("Persson on a 200-point measured spectrum, 100 loads", "closed form")
+    return _against(timing, verdict, what, ("table", "closed", "over_closed"), 2.0, "ms")
 
 
 def format_markdown(r: dict, machine: str, date: str) -> str:
