@@ -12,7 +12,6 @@ from helpers import TABLE1
 import jaxcontact as jc
 from jaxcontact import bem
 from jaxcontact.cli import main
-from jaxcontact.cli._scenefile import load_scene
 
 B = jc.Branch
 E, AREA, R, ETA, DELTA = 1e11, 1e-4, 1e-4, 1e9, 2e-6  # Pa, m², m, summits per m², m
@@ -38,7 +37,7 @@ def summits():
 
 @pytest.fixture(scope="module")
 def elastic_path(summits):
-    return jc.solve_path(summits, PATH, nodes=16)
+    return jc.solve_path(summits, PATH)
 
 
 def test_each_point_is_on_the_branch_its_load_reaches(elastic_path):
@@ -116,35 +115,18 @@ def test_a_bad_path_is_refused_by_name(summits, path):
         jc.solve_path(summits, path)
 
 
-GW_SCENE = """title = "gw path"
-[surface]
-D = 1.5
-G = 1e-10
-l_min = 1e-6
-[material]
-E = 210e9
-nu = 0.3
-H = 3e9
-[joint]
-area = 1e-4
-[model]
-name = "gw"
-[loads]
-values = [1.0, 10.0]
-[path]
-loads = [1.0, 10.0, 5.0, 20.0]
-"""
+def test_the_commands_path_csv_is_the_librarys_path(summits, elastic_path, tmp_path):
+    # `jaxcontact cycle --path` writes what `run_path` writes; on the summits' scene its programs are
+    # the ones compiled above.
+    from jaxcontact.cli._path_command import run_path
+    from jaxcontact.cli._scenefile import SceneFile
 
-
-def test_the_command_writes_the_scenes_path(tmp_path):
-    scene_file = tmp_path / "gw.toml"
-    scene_file.write_text(GW_SCENE)
-    assert main(["cycle", str(scene_file), "--out", str(tmp_path), "--format", "json"]) == 0
+    spec = SceneFile(title="summits", scene=summits, loads=PATH, source="test")
+    run_path(spec, PATH, tmp_path)
     with open(tmp_path / "path.csv") as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    expected = jc.solve_path(load_scene(scene_file).scene, np.array([1.0, 10.0, 5.0, 20.0]))
     approach = [float(row["approach_m"]) for row in rows]
-    np.testing.assert_allclose(approach, np.asarray(expected.approach), rtol=1e-12, atol=1e-20)
+    np.testing.assert_allclose(approach, np.asarray(elastic_path.approach), rtol=1e-12, atol=1e-20)
 
 
 def test_the_command_refuses_a_model_without_a_path_law(tmp_path, capsys):
