@@ -111,11 +111,15 @@ class BEM(AbstractSweptModel):
             log_l_min = math.log(2 * math.pi) - self.spectrum.log_q[-1] - s.log_length
         return log_l_min >= math.log(PIXELS_PER_L_MIN / self.grid) - 1e-12
 
+    def _cap_and_tolerance(self, s, dtype):
+        """The hardness cap (None unless `plastic`, in units of E) and the iteration's tolerance."""
+        hardness = jnp.exp(s.log_hardness) if self.plastic else None
+        return hardness, self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
+
     def path_solver(self, s):
         dtype = jnp.result_type(s.D)
         heights = self._heights(s, dtype)
-        hardness = jnp.exp(s.log_hardness) if self.plastic else None
-        tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
+        hardness, tolerance = self._cap_and_tolerance(s, dtype)
         settings = (Periodic(), tolerance, self.max_iterations, self.preconditioned)
 
         def follow(F_star) -> PathPoints:
@@ -139,11 +143,10 @@ class BEM(AbstractSweptModel):
         dtype = jnp.result_type(s.D)
         heights = self._heights(s, dtype)
         resolved = self._resolved(s)
-        hardness = jnp.exp(s.log_hardness) if self.plastic else None
+        hardness, tolerance = self._cap_and_tolerance(s, dtype)
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
         build = GridProblem.build
         problems = jax.vmap(lambda h: build(h, 1.0, 1.0, hardness, Periodic(), self.preconditioned))(heights)
-        tolerance = self.tolerance or DEFAULT_TOLERANCE.get(jnp.dtype(dtype), 1e-5)
         step = self.relative_step
         sides = (-step, step) if step > 0 else (0.0,)
 

@@ -25,8 +25,10 @@ def run_path(spec, loads, out: pathlib.Path) -> tuple[list[dict], list[str], str
     from ._report import record_comments, scene_record, write_csv
 
     path = solve_path(spec.scene, np.asarray(loads, dtype=float))
-    values = [np.asarray(getattr(path, name)) for name in ("load", "approach", "stiffness", "unloading_stiffness")]
-    values.append(np.asarray(path.real_area))
+    values = [
+        np.asarray(getattr(path, name))
+        for name in ("load", "approach", "stiffness", "unloading_stiffness", "real_area")
+    ]
     rows = [
         dict(zip(COLUMNS[:5], (float(x[i]) for x in values)))
         | {"branch": Branch(int(path.branch[i])).name.lower(), "status": status_message(int(path.status[i]))}

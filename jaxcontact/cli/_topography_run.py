@@ -80,19 +80,6 @@ def zero_note(name: str, solution) -> str | None:
     return f"{name}: no value at any load ({status_message(int(status[status != 0][0]))})"
 
 
-def _measured(c, l_min):
-    """The characterisation's measured spectrum, cut at `l_min` where that is longer than its band's end."""
-    from ..physics import MeasuredSpectrum
-
-    spectrum = MeasuredSpectrum.from_characterisation(c)
-    if l_min <= c.band[0]:
-        return spectrum
-    keep = spectrum.log_q <= np.log(2 * np.pi / l_min) + 1e-9
-    return MeasuredSpectrum(
-        np.exp(spectrum.log_q[keep]), np.exp(spectrum.log_C[keep]), variance=spectrum.variance[keep]
-    )
-
-
 def _with_spectrum(scene, spectrum):
     """The scene's model (persson or gw) solving on `spectrum`."""
     import equinox as eqx
@@ -108,6 +95,7 @@ def topography_run(spec, args):
     theirs (`stiffness_band`)."""
     from ..core import solve
     from ..models import MODELS
+    from ..physics import MeasuredSpectrum
     from ..quantities import Surface
     from ..topography import spectrum_band, stiffness_band
     from ._surface_commands import CLOSEST_TO_BEM, characterise_file
@@ -116,7 +104,7 @@ def topography_run(spec, args):
     surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
     model = args.model or CLOSEST_TO_BEM
     measured = (args.route or "spectrum") == "spectrum"
-    spectrum = _measured(c, float(surface.l_min)) if measured else None
+    spectrum = MeasuredSpectrum.from_characterisation(c, shortest=float(surface.l_min)) if measured else None
     scene = _scene(spec.scene, model, surface, args)
     name = pathlib.Path(args.topography).name
     title = f"{name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {surface.l_min:.4g} m; model {model}"
@@ -156,13 +144,13 @@ def form_check(roughness, scene, spectrum) -> str:
     """One line on whether the map's form carries the load: the BEM on the map itself (mirrored,
     `FORM_CHECK_GRID`), at the loads where Persson puts 0.5-15 % of it in contact, grows as F^α;
     below 0.75 (`form_note`) the line says so and what to remove."""
-    from ..models import Persson
-    from ..studies._spectrum_validation import FRACTIONS, mirrored_map_stiffness, persson_loads
+    from ..studies._compare import loads_for_fractions
+    from ..studies._spectrum_validation import FRACTIONS, mirrored_map_stiffness
     from ._compare_measured import form_note
 
     if roughness.dim != 2:
         return "form check: none for a line scan (the BEM needs an areal map)"
-    loads = persson_loads(scene.with_model(Persson(spectrum=spectrum)), FRACTIONS)
+    loads = loads_for_fractions(scene, FRACTIONS, spectrum)
     K = mirrored_map_stiffness(roughness, FORM_CHECK_GRID, float(scene.material.E), loads, float(scene.area))
     if K is None:
         return "form check: none (the map's pixels are not square)"

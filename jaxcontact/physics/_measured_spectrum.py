@@ -114,10 +114,15 @@ class MeasuredSpectrum(eqx.Module):
         self.long_end, self.variance = long_end, variance
 
     @classmethod
-    def from_characterisation(cls, characterisation, long_end: AbstractLongEnd = Rolloff()) -> MeasuredSpectrum:
+    def from_characterisation(
+        cls, characterisation, long_end: AbstractLongEnd = Rolloff(), shortest: float | None = None
+    ) -> MeasuredSpectrum:
         """The binned `C2D` of an areal map's characterisation (`jaxcontact.topography.characterise`)
         over its band (from `2π/band[1]` to `2π/band[0]`, the reliable one), with each bin's variance
-        of ln C where the characterisation has it."""
+        of ln C where the characterisation has it; cut at the wavelength `shortest` (m) where that is
+        longer than the band's short end (a chosen l_min, a grid's resolution).
+
+        **Raises:** `ValueError` for a profile's characterisation, and for a cut band of fewer than 2 bins."""
         if getattr(characterisation.kind, "name", "") != "areal":
             raise InputError(
                 f"the characterisation is of a {characterisation.kind.name} measurement: a measured spectrum needs "
@@ -125,7 +130,13 @@ class MeasuredSpectrum(eqx.Module):
             )
         q, C = (np.asarray(x, dtype=float) for x in characterisation.spectrum)
         short, long = characterisation.band
+        short = short if shortest is None else max(short, shortest)
         inside = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / short * (1 + 1e-9)) & (C > 0)
+        if inside.sum() < 2:
+            raise InputError(
+                f"the band ({characterisation.band[0]:.3g}, {long:.3g}) m holds fewer than 2 bins longer than "
+                f"{short:.3g} m"
+            )
         variance = getattr(characterisation, "spectrum_variance", None)
         return cls(q[inside], C[inside], long_end, None if variance is None else np.asarray(variance)[inside])
 

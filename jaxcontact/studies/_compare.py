@@ -90,16 +90,19 @@ def model_curves(scene, loads, models=COMPARED) -> dict:
     return curves
 
 
-def loads_for_fractions(scene, fractions) -> np.ndarray:
+def loads_for_fractions(scene, fractions, spectrum=None) -> np.ndarray:
     """Loads (N) at which Persson's theory puts the real contact area at `fractions` of A_a
-    (`A_r/A_a = erf(w(q1) p/E)`, so `p = E erf⁻¹(A_r/A_a)/w(q1)`)."""
+    (`A_r/A_a = erf(w(q1) p/E)`, so `p = E erf⁻¹(A_r/A_a)/w(q1)`), on the scene's surface or on a
+    measured `spectrum`."""
     from scipy.special import erfinv
 
     from ..core import solve
+    from ..models import Persson
 
     unit = float(scene.material.E) * float(scene.area)
     probe = 1e-6
-    area = float(solve(scene.with_model("persson"), probe * unit).real_area) / float(scene.area)
+    persson = scene.with_model("persson" if spectrum is None else Persson(spectrum=spectrum))
+    area = float(solve(persson, probe * unit).real_area) / float(scene.area)
     w1 = float(erfinv(area)) / probe
     return np.array([erfinv(f) / w1 * unit for f in fractions])
 

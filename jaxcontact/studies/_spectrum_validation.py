@@ -30,46 +30,18 @@ class SpectrumSkipped(Exception):
     """A file the validation cannot use (a line scan, or a band the grid cannot hold); the message says why."""
 
 
-def _spectrum(characterisation, cut: float):
-    """The characterisation's C2D over its band, up to the wavevector of `cut` (m)."""
-    from ..physics import MeasuredSpectrum
-
-    q, C = (np.asarray(x, dtype=float) for x in characterisation.spectrum)
-    long = characterisation.band[1]
-    keep = (q >= 2 * math.pi / long * (1 - 1e-9)) & (q <= 2 * math.pi / cut * (1 + 1e-9)) & (C > 0)
-    if keep.sum() < 2:
-        raise SpectrumSkipped(
-            f"the band ({characterisation.band[0]:.3g}, {long:.3g}) m holds fewer than 2 bins longer than "
-            f"{cut:.3g} m, the shortest wavelength the grid resolves"
-        )
-    return MeasuredSpectrum(q[keep], C[keep])
-
-
-def persson_loads(scene, fractions) -> np.ndarray:
-    """Loads (N) at which Persson's theory on the scene's spectrum puts the contact at `fractions`
-    (`A_r/A_a = erf(w(q1) p/E)`, linear in the load inside the erf)."""
-    from scipy.special import erfinv
-
-    from ..core import solve
-
-    unit = float(scene.material.E) * float(scene.area)
-    probe = 1e-6
-    area = float(solve(scene, probe * unit).real_area) / float(scene.area)
-    return np.array([erfinv(f) / (erfinv(area) / probe) * unit for f in fractions])
-
-
 def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
     """K (N/m, NaN where not ok) of the mirrored map at `loads` on the joint's `area` (module
     docstring), or None for a map whose pixels are not square."""
     from ..bem import solve
+    from ..topography._separate import mirror_tiled
 
     z = np.asarray(roughness.heights(), dtype=float)
     (nx, ny), (lx, ly) = z.shape, roughness.physical_sizes
     if abs(lx / nx - ly / ny) > 1e-3 * lx / nx:
         return None
     m = min(nx, ny)
-    square = z[:m, :m] - z[:m, :m].mean()
-    tiled = np.block([[square, square[:, ::-1]], [square[::-1, :], square[::-1, ::-1]]])
+    tiled = mirror_tiled(z[:m, :m] - z[:m, :m].mean())
     n = min(2 * grid, 2 * m)
     kept = np.r_[0 : n // 2, 2 * m - n // 2 : 2 * m]
     heights = np.real(np.fft.ifft2(np.fft.fft2(tiled)[np.ix_(kept, kept)])) * (n / (2 * m)) ** 2
@@ -98,8 +70,11 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     from ..bem import BEM
     from ..core import Scene, solve
     from ..models import GreenwoodWilliamson, Persson
+    from ..numerics import InputError
+    from ..physics import MeasuredSpectrum
     from ..quantities import Material, Surface
     from ..topography import Curvature, characterise, read, separate, stiffness_band
+    from ._compare import loads_for_fractions
 
     topography = read(path, fill_undefined=True)
     if topography.dim != 2:
@@ -108,12 +83,15 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     c = characterise(roughness)
     side = math.sqrt(float(np.prod(roughness.physical_sizes)))
     cut = max(c.band[0], PIXELS_PER_L_MIN * side / grid)
-    spectrum = _spectrum(c, cut)
+    try:
+        spectrum = MeasuredSpectrum.from_characterisation(c, shortest=cut)
+    except InputError as too_few:  # a band the grid cannot hold
+        raise SpectrumSkipped(f"{too_few}, the shortest wavelength the grid resolves") from None
     E = 210e9 / (1 - 0.3**2) if modulus is None else modulus
     # Every model compared is elastic: the hardness is not used.
     scene = Scene(Surface(D=c.D, G=c.G, l_min=cut), Material(E=E, nu=0.3, H=3e9), side * side)
     measured = scene.with_model(Persson(spectrum=spectrum))
-    loads = persson_loads(measured, fractions)
+    loads = loads_for_fractions(scene, fractions, spectrum)
     bem = [
         solve(scene.with_model(BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum)), loads)
         for seed in range(realisations)

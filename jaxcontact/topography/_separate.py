@@ -154,6 +154,11 @@ def longest_roughness_wavelength(cutoff: float) -> float:
     return cutoff * ALPHA * math.sqrt(math.pi / -math.log(1.0 - KEPT))
 
 
+def mirror_tiled(z: np.ndarray) -> np.ndarray:
+    """Heights `z` beside their reflections in x, in y and in both: a periodic 2n × 2m tile."""
+    return np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
+
+
 def mirrored(topography):
     """A measured map made periodic by its mirror images: the map and its reflections in x, in y and in
     both, a periodic map of twice its side (no step where it repeats, unlike the map repeated as it
@@ -166,7 +171,7 @@ def mirrored(topography):
     z = np.asarray(topography.heights(), dtype=float)
     if z.ndim != 2:
         raise InputError("mirrored needs an areal map: a line scan has no second direction to mirror")
-    tiled = np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
+    tiled = mirror_tiled(z)
     sizes = tuple(2.0 * float(s) for s in topography.physical_sizes)
     return from_heights(tiled, sizes, periodic=True, info=dict(topography.info))
 
