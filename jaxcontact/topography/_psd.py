@@ -62,17 +62,6 @@ def _suggestion(spectrum, suggested) -> str:
     )
 
 
-def _log_variance(spectrum) -> np.ndarray:
-    """Each bin's variance of ln C: its mean of `modes` periodogram values of relative variance
-    `scatter` is Gamma-distributed with shape `modes/scatter` (`_binned`), var ln = ψ'(shape); a bin
-    without modes gets infinity."""
-    from scipy import special
-
-    shape = np.where(spectrum.modes > 0, spectrum.modes / np.where(spectrum.scatter > 0, spectrum.scatter, 1.0), 0.0)
-    with np.errstate(divide="ignore"):
-        return np.where(shape > 0, special.polygamma(1, np.where(shape > 0, shape, 1.0)), np.inf)
-
-
 def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D, cutoff) -> Characterisation:
     """The PSD characterisation of `characterise` (its arguments, checked there)."""
     spectrum = whole_spectrum(heights, spacing, periodic)
@@ -128,7 +117,7 @@ def characterise_spectrum(topography, heights, spacing, periodic, kind, band, D,
         groups=1,
         estimates=np.array([[D_hat, log_G_hat]]),
         spectrum=(spectrum.q, spectrum.C),
-        spectrum_variance=_log_variance(spectrum),
+        spectrum_variance=spectrum.log_variance,
         fit=(fit_q, np.exp(law.intercept + law.slope * np.log(fit_q))),
         diagnostics=diagnostics,
         kind=kind,
