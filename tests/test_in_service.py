@@ -124,12 +124,6 @@ def test_float32_agrees_with_float64(plastic_scene):
     np.testing.assert_allclose(single, reference, rtol=1e-4)
 
 
-def test_the_capped_bem_model_has_no_unloading_law():
-    scene = make_scene(**TABLE1, model=jc.BEM(grid=64, plastic=True))
-    with pytest.raises(ValueError, match="has no unloading law: its unloading \\(dynamic\\) and tangential"):
-        jc.dynamic_stiffness(scene, LOADS)
-
-
 def test_a_stiffness_given_by_name_is_refused_with_its_object():
     with refused_type("stiffness", r"stiffness = 'unloading': give the object, jaxcontact.Unloading\(\)"):
         jc.Outputs(stiffness="unloading")

@@ -104,6 +104,15 @@ def test_the_capped_bem_model_reloads_to_its_old_maximum_elastically(capped):
     np.testing.assert_allclose(float(path.stiffness[4]), float(path.unloading_stiffness[1]), rtol=1e-6)
 
 
+def test_the_capped_bem_models_dynamic_stiffness_is_its_paths_unloading_tangent_at_each_top(capped):
+    # Preloads in any order, each reached by loading through the smaller ones: the path's points
+    # reached by loading (1e-3, 2e-3, and 3e-3 after an elastic unload and reload), whose surfaces
+    # the cycle between them leaves as they were.
+    path, _ = capped
+    dynamic = jc.dynamic_stiffness(bem_scene(True), BEM_PATH[[5, 0, 1]]).stiffness
+    np.testing.assert_allclose(np.asarray(dynamic), np.asarray(path.unloading_stiffness)[[5, 0, 1]], rtol=1e-6)
+
+
 def test_a_flowing_model_without_a_path_law_is_refused():
     with pytest.raises(ValueError, match="model = 'xia2024' has no load-path law"):
         jc.solve_path(jc.table1_scene(), PATH)

@@ -39,7 +39,7 @@ class InterfaceLaw(eqx.Module):
     - `status`: per point, as `Solution.status` (0 = ok); where it is not 0 the other fields are NaN.
     - `unloading_status`: per point, the status of the unloading state behind `dynamic_stiffness` and
       `tangential_stiffness` (NaN where it is not 0); `INVALID_PARAMETERS` throughout for a model
-      without an unloading law (the capped BEM model).
+      without an unloading law.
     - `nominal_area`: the scene's A_a (m²): a fractal model's law per unit area depends on it (its
       largest spot grows with the area), so a law belongs to the nominal area it was computed for.
     """

@@ -203,7 +203,7 @@ def dynamic_stiffness(scene: Scene, preload: LoadsLike, *, throw: bool = False) 
 
     **Arguments:** as `solve`, `preload` its loads. **Returns:** `solve(scene, preload,
     outputs=Outputs(stiffness=Unloading()))`, a `Solution` whose `stiffness` is that tangent.
-    **Raises:** `ValueError` for a model without an unloading law (the capped BEM model).
+    **Raises:** `ValueError` for a model without an unloading law (none of the registered ones).
     """
     return solve(scene, preload, outputs=_UNLOADING, throw=throw)
 
@@ -214,6 +214,6 @@ def tangential_stiffness(scene: Scene, loads: LoadsLike, *, throw: bool = False)
     (docs/in-service.md).
 
     **Arguments:** as `solve`. **Returns:** `solve(scene, loads, outputs=Outputs(stiffness=TangentialStick()))`.
-    **Raises:** `ValueError` for a model without an unloading law (the capped BEM model).
+    **Raises:** `ValueError` for a model without an unloading law (none of the registered ones).
     """
     return solve(scene, loads, outputs=_TANGENTIAL, throw=throw)

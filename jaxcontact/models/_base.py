@@ -163,6 +163,28 @@ class AbstractSweptModel(AbstractContactModel):
         sweep = self.sweep_solver(s)
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
+    @typing.final
+    def unloading_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
+        """`F*` (1-D) ↦ the `PointResult`s whose stiffness is the initial unloading tangent at each
+        load reached by loading: the path of the loads in increasing order (`path_solver`), so that
+        each state keeps what loading to it left (a capped surface's flattening), read back in the
+        order given."""
+        follow = self.path_solver(s)
+
+        def curve(F_star):
+            order = jnp.argsort(F_star)
+            path = follow(F_star[order])
+            given = lambda x: x[jnp.argsort(order)]  # noqa: E731
+            response = JointResponse(
+                F_star[:, None],
+                given(path.unloading_star)[:, None],
+                given(path.real_area_star),
+                jnp.zeros(F_star.shape, bool),
+            )
+            return PointResult(jnp.full_like(F_star, jnp.nan), response, given(path.status))
+
+        return curve
+
 
 def without_single_spots(model: AbstractContactModel) -> InputError:
     """The error of asking a model that resolves no single spots for them (partial slip)."""

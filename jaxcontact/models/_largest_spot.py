@@ -27,8 +27,8 @@ from ._spots import SpotFamilies, SpotState
 
 def has_unloading_law(model: AbstractContactModel) -> bool:
     """Whether `model` gives an unloading (dynamic) and a tangential stiffness: a largest-spot model (its
-    joint's `unloading_stiffness`) or one that unloads as it loads."""
-    return isinstance(model, AbstractLargestSpotModel) or model.unloads_as_it_loads()
+    joint's `unloading_stiffness`), a swept one (its load path's) or one that unloads as it loads."""
+    return isinstance(model, (AbstractLargestSpotModel, AbstractSweptModel)) or model.unloads_as_it_loads()
 
 
 def curve_solver(
@@ -45,6 +45,8 @@ def curve_solver(
             "not available"
         )
     if isinstance(model, AbstractSweptModel):
+        if unloading and not model.unloads_as_it_loads():
+            return model.unloading_solver(s)
         return model.sweep_solver(s)
     return jax.vmap(model.point_solver(s))
 
