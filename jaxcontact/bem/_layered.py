@@ -1,0 +1,266 @@
+"""Two-scale contact: a mesoscale gap between two smooth elastic bodies, the roughness between them a
+compliant layer (`bem._layer`) in series with the half-space (docs/in-service.md).
+
+At every grid point the bodies' approach Δ less the gap g less the elastic displacement u = C p is
+taken up by the layer: `u + c(p) + g − Δ = 0` where the point carries pressure, `≥ 0` where it does
+not (a layer that opens), with `Σ p a = F` (a the pixel area). In units of the grid spacing s and of
+the modulus E (x = p/E): `R(x) = C x + c(E x)/s + g/s − Δ/s`. The energy `½xᵀCx + Σ∫c + Σ g x` is
+convex, and Newton's method on the points that carry pressure, with the load as a constraint,
+solves it: each step two conjugate-gradient solves with `H = C + diag(c'(E x) E/s)` (symmetric
+positive definite), then the points it would push below zero are released.
+
+Derivatives are exact implicit ones: one Newton correction from the converged state with the state
+held, `(x, Δ) − J⁻¹ (R, Σx − F*)`, whose derivative is `−J⁻¹ ∂(R, Σx − F*)/∂θ` (the linear solve by
+`jax.lax.custom_linear_solve`). The normal stiffness is `dF/dΔ = E s 1ᵀH⁻¹1` on the loaded points; the
+tilt stiffnesses, `dM/dθ` at fixed load for a rotation about each in-plane axis through the map's
+centre, `E s (ξᵀH⁻¹ξ − (ξᵀH⁻¹1)²/1ᵀH⁻¹1)` with ξ the lever arm.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float, Int
+
+from ..numerics._validate import InputError, check_range, check_strategy
+from ..quantities import Status
+from ._checks import check_arguments, check_iteration
+from ._layer import AbstractLayer
+from ._operator import SUBSTRATES, AbstractSubstrate, Compliance, Periodic
+
+# Each Newton step's linear solves, relative to their right-hand side (float32, float64).
+_CG_TOLERANCE = (1e-6, 1e-12)
+
+
+class LayeredSolution(eqx.Module):
+    """The two-scale contact at each load (leading axis: the loads).
+
+    **Fields:** `loads` (N); `pressure` (Pa, loads × n × n); `approach` (m), the bodies' approach
+    Δ (the layer's closure plus the elastic displacement plus the gap at a loaded point);
+    `stiffness` (N/m), dF/dΔ; `tilt_stiffness` (N·m/rad, loads × 2), about the axes along the
+    rows and the columns through the map's centre; `contact_fraction`, the share of points at or
+    above the layer's `open_below`; `status` (0 = ok); `iterations` (Newton steps).
+    """
+
+    loads: Float[Array, " loads"]
+    pressure: Float[Array, "loads n n"]
+    approach: Float[Array, " loads"]
+    stiffness: Float[Array, " loads"]
+    tilt_stiffness: Float[Array, "loads 2"]
+    contact_fraction: Float[Array, " loads"]
+    status: Int[Array, " loads"]
+    iterations: Int[Array, " loads"]
+
+
+def _cg(matvec, b, tolerance, max_steps):
+    """Plain conjugate gradients from 0 until `‖b − Ax‖ ≤ tolerance ‖b‖`."""
+    bound = (tolerance * jnp.linalg.norm(b)) ** 2
+
+    def running(state):
+        return (state[3] > bound) & (state[4] < max_steps)
+
+    def body(state):
+        x, r, d, rr, step = state
+        Ad = matvec(d)
+        alpha = rr / jnp.sum(d * Ad)
+        x, r = x + alpha * d, r - alpha * Ad
+        rr_new = jnp.sum(r * r)
+        return x, r, r + (rr_new / rr) * d, rr_new, step + 1
+
+    x, *_ = jax.lax.while_loop(running, body, (jnp.zeros_like(b), b, b, jnp.sum(b * b), 0))
+    return x
+
+
+class _Grid(eqx.Module):
+    """The problem in grid units (module docstring) with its layer, one load."""
+
+    compliance: Compliance
+    layer: object
+    gap: Float[Array, "n n"]  # g/s
+    modulus: Float[Array, ""]
+    spacing: Float[Array, ""]
+    tolerance: float = eqx.field(static=True)  # the Newton residual's, relative (`_newton`)
+
+    def residual(self, x, approach):
+        closure = self.layer.closure(self.modulus * x)
+        return self.compliance(x) + closure / self.spacing + self.gap - approach
+
+    def diagonal(self, x):
+        return self.layer.compliance(self.modulus * x) * self.modulus / self.spacing
+
+    def solver(self, x, loaded):
+        """`v ↦ H_LL⁻¹ v` on the loaded points `loaded` (the identity elsewhere)."""
+        d = self.diagonal(x)
+
+        def matvec(v):
+            return jnp.where(loaded, self.compliance(jnp.where(loaded, v, 0.0)) + d * v, v)
+
+        steps, tolerance = 4 * x.size + 200, _CG_TOLERANCE[x.dtype == jnp.float64]
+
+        def cg(operator, b):
+            return _cg(operator, b, tolerance, steps)
+
+        # The solve's derivative is the same solve again (symmetric H): reverse mode through K.
+        return lambda v: jax.lax.custom_linear_solve(matvec, jnp.where(loaded, v, 0.0), cg, symmetric=True), matvec
+
+
+def _newton(grid: _Grid, total, max_iterations: int):
+    """The converged `(x, Δ/s, loaded, iterations, converged)` at the load `total` (Σx)."""
+    n2 = grid.gap.size
+    opens = grid.layer.opens
+
+    def loaded_set(x, r):
+        return (x > 0) | (r < 0) if opens else jnp.ones_like(x, bool)
+
+    def step(state):
+        x, approach, _, k, _ = state
+        r = grid.residual(x, approach)
+        loaded = loaded_set(x, r)
+        solve, _ = grid.solver(x, loaded)
+        y1, y2 = solve(jnp.ones_like(x)), solve(r)
+        lam = (total - jnp.sum(x) + jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
+        dx = jnp.where(loaded, -y2 + lam * y1, 0.0)
+        moved = x + dx
+        # A layer that opens lets a point go to zero; one that does not keeps it a tenth of the way.
+        x_new = jnp.where(moved > 0, moved, 0.0 if opens else 0.1 * x)
+        r_new = grid.residual(x_new, approach + lam)
+        held = loaded_set(x_new, r_new)
+        # Loaded points off their balance, open ones that penetrate (a layer that opens), relative to
+        # the displacements at stake: the gap's relief and the approach (the layer's closure on a flat).
+        scale = jnp.maximum(jnp.max(grid.gap) - jnp.min(grid.gap), jnp.abs(approach + lam - jnp.min(grid.gap)))
+        worst = jnp.max(jnp.where(x_new > 0, jnp.abs(r_new), jnp.maximum(-r_new, 0.0) if opens else 0.0))
+        done = (worst <= grid.tolerance * scale) & (jnp.abs(jnp.sum(x_new) - total) <= grid.tolerance * total)
+        return x_new, approach + lam, held, k + 1, done
+
+    def running(state):
+        return ~state[4] & (state[3] < max_iterations)
+
+    x0 = jnp.full(grid.gap.shape, total / n2)
+    start = (x0, jnp.mean(grid.gap), jnp.ones_like(x0, bool), 0, jnp.zeros((), bool))
+    return jax.lax.while_loop(running, step, start)
+
+
+def _implicit(grid: _Grid, x_star, approach_star, loaded, total):
+    """`(x, Δ/s)` equal to the converged ones, with their implicit derivatives (module docstring)."""
+    held = jax.lax.stop_gradient
+    x_star, approach_star = held(x_star), held(approach_star)
+    frozen = jax.tree.map(held, grid)
+    solve, matvec_h = frozen.solver(x_star, loaded)
+
+    shape = x_star.shape
+    # One flat vector (the map, then Δ): custom_linear_solve takes a symbolic zero tangent of one
+    # part of a tuple right-hand side as no value.
+    split = lambda v: (v[:-1].reshape(shape), v[-1])  # noqa: E731
+    join = lambda vx, va: jnp.concatenate([vx.reshape(-1), va[None]])  # noqa: E731
+
+    def matvec(v):
+        vx, va = split(v)
+        return join(jnp.where(loaded, matvec_h(vx) - va, vx), jnp.sum(jnp.where(loaded, vx, 0.0)))
+
+    def bordered(b, sign):
+        # J = [[H, −1], [1ᵀ, 0]] (sign = 1) or its transpose [[H, 1], [−1ᵀ, 0]] (sign = −1), by the
+        # Schur complement: x = H⁻¹ b_x + sign·a H⁻¹1, with Σx = sign·b_a.
+        bx, ba = split(b)
+        y1, y2 = solve(jnp.ones_like(bx)), solve(bx)
+        va = sign * (sign * ba - jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
+        return join(jnp.where(loaded, y2 + sign * va * y1, bx), va)
+
+    rhs = join(jnp.where(loaded, grid.residual(x_star, approach_star), 0.0), jnp.sum(x_star) - total)
+    delta = jax.lax.custom_linear_solve(
+        matvec, rhs, lambda m, b: bordered(b, 1.0), transpose_solve=lambda m, b: bordered(b, -1.0)
+    )
+    dx, da = split(delta)
+    return x_star - jnp.where(loaded, dx, 0.0), approach_star - da
+
+
+def layered_at(grid: _Grid, total, max_iterations: int):
+    """One load: the pressure (units of E), Δ/s, K and the tilt stiffnesses (units of E s), the loaded
+    set, the Newton steps and whether they converged."""
+    x_star, approach_star, loaded, iterations, converged = _newton(
+        jax.tree.map(jax.lax.stop_gradient, grid), jax.lax.stop_gradient(total), max_iterations
+    )
+    x, approach = _implicit(grid, x_star, approach_star, loaded, total)
+    solve, _ = grid.solver(x, loaded)
+    n = x.shape[0]
+    lever = jnp.arange(n, dtype=x.dtype) - (n - 1) / 2
+    ones = jnp.where(loaded, 1.0, 0.0)
+    y1 = solve(ones)
+    stiffness = jnp.sum(ones * y1)
+    tilts = []
+    for arm in (jnp.broadcast_to(lever[:, None], x.shape), jnp.broadcast_to(lever[None, :], x.shape)):
+        arm = jnp.where(loaded, arm, 0.0)
+        tilts.append(jnp.sum(arm * solve(arm)) - jnp.sum(arm * y1) ** 2 / stiffness)
+    return x, approach, stiffness, jnp.stack(tilts), loaded, iterations, converged
+
+
+@eqx.filter_jit
+def _solve_layered(gap, size, modulus, loads, layer, substrate: AbstractSubstrate, tolerance, max_iterations):
+    n = gap.shape[0]
+    spacing = size / n
+    grid = _Grid(Compliance.build(n, substrate, gap.dtype), layer, gap / spacing, modulus, spacing, tolerance)
+    usable = jnp.isfinite(loads) & (loads > 0)
+    totals = jnp.where(usable, loads, modulus * size * size * 1e-4) / (modulus * spacing**2)
+    x, approach, K, tilt, loaded, iterations, converged = jax.vmap(lambda t: layered_at(grid, t, max_iterations))(
+        totals
+    )
+    status = jnp.where(usable, jnp.where(converged, Status.OK, Status.NOT_CONVERGED), Status.INVALID_LOAD)
+    ok = status == Status.OK
+    nan = lambda v, unit: jnp.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)), v * unit, jnp.nan)  # noqa: E731
+    pressure = x * modulus
+    fraction = jnp.mean(pressure >= jnp.maximum(layer.open_below(), jnp.finfo(gap.dtype).tiny), axis=(1, 2))
+    return LayeredSolution(
+        loads=loads,
+        pressure=nan(pressure, 1.0),
+        approach=nan(approach, spacing),
+        stiffness=nan(K, modulus * spacing),
+        tilt_stiffness=nan(tilt, modulus * spacing**3),
+        contact_fraction=jnp.where(ok, fraction.astype(gap.dtype), jnp.nan),
+        status=status.astype(jnp.int32),
+        iterations=iterations.astype(jnp.int32),
+    )
+
+
+def solve_layered(
+    gap,
+    size,
+    modulus,
+    loads,
+    layer: AbstractLayer,
+    *,
+    substrate: AbstractSubstrate = Periodic(),
+    tolerance: float | None = None,
+    max_iterations: int = 100,
+) -> LayeredSolution:
+    """Two-scale contact (module docstring): the pressure over a mesoscale gap with the roughness a
+    compliant layer, at each total load.
+
+    **Arguments:**
+
+    - `gap`: the mesoscale gap g(x, y) between the two bodies' mean surfaces, m, an n × n map (its
+      level is arbitrary: `approach` is measured from it).
+    - `size`: the map's side, m; `modulus`: the bodies' contact modulus E*, Pa.
+    - `loads`: total normal loads, N, a 1-D array.
+    - `layer`: the roughness's law, `bem.WinklerLayer(k)` or `bem.TabulatedLayer.from_law(jc.interface_law(...))`.
+    - `substrate`: `bem.Periodic()` (the map repeats) or `bem.Free()` (an isolated patch).
+    - `tolerance`: the balance of every point and of the load, relative to the displacements at
+      stake (the gap's relief, the approach) and to the load (default 1e-9 in float64, 1e-5 in
+      float32); `max_iterations`: Newton steps.
+
+    **Returns:** a `LayeredSolution`. `jax.grad` and `jax.jvp` with respect to the gap, size,
+    modulus, loads and the layer's arrays are exact implicit derivatives.
+
+    **Raises:** `ValueError` for a map that is not square, non-finite heights, or a non-positive size,
+    modulus or load.
+    """
+    check_arguments(gap, size, modulus, loads, None)
+    check_iteration(None, max_iterations)
+    check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
+    if not isinstance(layer, AbstractLayer):
+        raise InputError(f"layer = {layer!r} must be bem.WinklerLayer(k) or bem.TabulatedLayer(...)")
+    dtype = jnp.result_type(gap, loads, 1.0)
+    if tolerance is None:
+        tolerance = 1e-9 if dtype == jnp.float64 else 1e-5
+    check_range("tolerance", tolerance, 0.0, 1e-2, meaning="relative")
+    arrays = tuple(jnp.asarray(x, dtype) for x in (gap, size, modulus, loads))
+    return _solve_layered(*arrays, layer, substrate, float(tolerance), int(max_iterations))
