@@ -101,10 +101,12 @@ class TabulatedLayer(AbstractLayer):
     def closure(self, pressure):
         t = jnp.log(jnp.maximum(pressure, jnp.finfo(self.closure_values.dtype).tiny))
         t0, c, m = self.log_pressure, self.closure_values, self.slopes
-        k = jnp.clip(jnp.searchsorted(t0, t) - 1, 0, t0.shape[0] - 2)
+        k = jnp.clip(jnp.searchsorted(t0, t, side="right") - 1, 0, t0.shape[0] - 2)
         a, b = t0[k], t0[k + 1]
         h = b - a
-        u = jnp.clip((t - a) / h, 0.0, 1.0)
+        # Not clipped: a clip's derivative at its bound is halved (a tie), which a pressure on a
+        # table point would meet; beyond the table this branch is not taken.
+        u = (t - a) / h
         # Cubic Hermite between the table's points; linear in ln p (the end's slope) beyond them.
         inside = (
             (2 * u**3 - 3 * u**2 + 1) * c[k]

@@ -53,22 +53,26 @@ class LayeredSolution(eqx.Module):
     iterations: Int[Array, " loads"]
 
 
-def _cg(matvec, b, tolerance, max_steps):
-    """Plain conjugate gradients from 0 until `‖b − Ax‖ ≤ tolerance ‖b‖`."""
+def _cg(matvec, b, diagonal, tolerance, max_steps):
+    """Conjugate gradients preconditioned by the inverse `diagonal` of the operator (Jacobi: a point
+    whose layer is far softer than the half-space nearly decouples), from 0 until
+    `‖b − Ax‖ ≤ tolerance ‖b‖`."""
     bound = (tolerance * jnp.linalg.norm(b)) ** 2
 
     def running(state):
-        return (state[3] > bound) & (state[4] < max_steps)
+        return (jnp.sum(state[1] * state[1]) > bound) & (state[4] < max_steps)
 
     def body(state):
-        x, r, d, rr, step = state
+        x, r, d, rz, step = state
         Ad = matvec(d)
-        alpha = rr / jnp.sum(d * Ad)
+        alpha = rz / jnp.sum(d * Ad)
         x, r = x + alpha * d, r - alpha * Ad
-        rr_new = jnp.sum(r * r)
-        return x, r, r + (rr_new / rr) * d, rr_new, step + 1
+        z = r / diagonal
+        rz_new = jnp.sum(r * z)
+        return x, r, z + (rz_new / rz) * d, rz_new, step + 1
 
-    x, *_ = jax.lax.while_loop(running, body, (jnp.zeros_like(b), b, b, jnp.sum(b * b), 0))
+    z = b / diagonal
+    x, *_ = jax.lax.while_loop(running, body, (jnp.zeros_like(b), b, z, jnp.sum(b * z), 0))
     return x
 
 
@@ -92,6 +96,8 @@ class _Grid(eqx.Module):
     def solver(self, x, loaded):
         """`v ↦ H_LL⁻¹ v` on the loaded points `loaded` (the identity elsewhere)."""
         d = self.diagonal(x)
+        own = self.compliance(jnp.zeros_like(x).at[0, 0].set(1.0))[0, 0]  # a pixel's own compliance
+        jacobi = jnp.where(loaded, own + d, 1.0)
 
         def matvec(v):
             return jnp.where(loaded, self.compliance(jnp.where(loaded, v, 0.0)) + d * v, v)
@@ -99,7 +105,7 @@ class _Grid(eqx.Module):
         steps, tolerance = 4 * x.size + 200, _CG_TOLERANCE[x.dtype == jnp.float64]
 
         def cg(operator, b):
-            return _cg(operator, b, tolerance, steps)
+            return _cg(operator, b, jacobi, tolerance, steps)
 
         # The solve's derivative is the same solve again (symmetric H): reverse mode through K.
         return lambda v: jax.lax.custom_linear_solve(matvec, jnp.where(loaded, v, 0.0), cg, symmetric=True), matvec
