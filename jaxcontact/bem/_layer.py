@@ -1,12 +1,14 @@
 """The roughness of an interface as a compliant layer: local nominal pressure p ↦ the layer's closure
 c(p) (m), increasing in p, between two smooth elastic bodies (`bem.solve_layered`, docs/in-service.md).
 
-`WinklerLayer(stiffness)` is linear, `c = p/k`, open (p = 0) below zero closure. `TabulatedLayer`
-carries a model's closure law on a table of pressures (`jaxcontact.interface_law`): a cubic
-Hermite interpolant in ln p through the closures with the slopes `dc/dln p = p/k_n(p)`, continued
-linearly in ln p beyond both ends, so that it opens without bound as p → 0 (every point then
-carries some pressure) and is smooth; its `open_below` is the table's smallest pressure, below which
-a point counts as out of contact.
+Every layer has a finite closure at p = 0, below which it lets go (the point carries no pressure).
+`WinklerLayer(stiffness)` is linear, `c = p/k`. `TabulatedLayer` carries a model's closure law on a
+table of pressures (`jaxcontact.interface_law`): a cubic Hermite interpolant in ln p through the
+closures with the slopes `dc/dln p = p/k_n(p)`, continued linearly in ln p above the table and
+linearly in p below it, with its tangent `1/k_n(p₀)` at the smallest pressure p₀: it lets go at
+`c(p₀) − p₀/k_n(p₀)`. Persson's law would open without bound as p → 0 (its pressure falls as
+`e^(−u/u₀)`); below p₀ it carries so little that the choice changes nothing but whether a point
+counts as in contact.
 """
 
 from __future__ import annotations
@@ -23,19 +25,12 @@ from ..numerics import InputError
 
 
 class AbstractLayer(eqx.Module):
-    """A compliant layer's law: `closure(p)` (m) at pressures p (Pa, any shape), increasing;
-    `opens` whether its closure at p = 0 is finite (the layer lets go: p = 0 where the bodies part);
-    `open_below` (Pa), the pressure below which a point counts as out of contact."""
-
-    opens: eqx.AbstractClassVar[bool]
+    """A compliant layer's law: `closure(p)` (m) at pressures p ≥ 0 (Pa, any shape), increasing and
+    finite at p = 0 (module docstring)."""
 
     @abc.abstractmethod
     def closure(self, pressure):
         """The layer's closure (m) at `pressure` (Pa)."""
-
-    @abc.abstractmethod
-    def open_below(self):
-        """The pressure (Pa) below which a point counts as out of contact."""
 
     def compliance(self, pressure):
         """`dc/dp` (m/Pa) at `pressure`, elementwise (forward-mode)."""
@@ -45,7 +40,6 @@ class AbstractLayer(eqx.Module):
 class WinklerLayer(AbstractLayer):
     """A linear layer: closure `p/stiffness`, `stiffness` in Pa/m (a bed of independent springs)."""
 
-    opens = True
     stiffness: Float[Array, ""]
 
     def __init__(self, stiffness):
@@ -56,9 +50,6 @@ class WinklerLayer(AbstractLayer):
     def closure(self, pressure):
         return pressure / self.stiffness
 
-    def open_below(self):
-        return jnp.zeros((), self.stiffness.dtype)
-
 
 class TabulatedLayer(AbstractLayer):
     """A closure law tabulated at increasing pressures (module docstring).
@@ -68,7 +59,6 @@ class TabulatedLayer(AbstractLayer):
     `jaxcontact.InterfaceLaw` (its points with status 0).
     """
 
-    opens = False
     log_pressure: Float[Array, " points"]
     closure_values: Float[Array, " points"]
     slopes: Float[Array, " points"]
@@ -99,7 +89,8 @@ class TabulatedLayer(AbstractLayer):
         return cls(law.pressure[ok], law.closure[ok], law.normal_stiffness[ok])
 
     def closure(self, pressure):
-        t = jnp.log(jnp.maximum(pressure, jnp.finfo(self.closure_values.dtype).tiny))
+        tiny = jnp.finfo(self.closure_values.dtype).tiny
+        t = jnp.log(jnp.maximum(pressure, tiny))
         t0, c, m = self.log_pressure, self.closure_values, self.slopes
         k = jnp.clip(jnp.searchsorted(t0, t, side="right") - 1, 0, t0.shape[0] - 2)
         a, b = t0[k], t0[k + 1]
@@ -114,9 +105,7 @@ class TabulatedLayer(AbstractLayer):
             + (-2 * u**3 + 3 * u**2) * c[k + 1]
             + (u**3 - u**2) * h * m[k + 1]
         )
-        below = c[0] + m[0] * (t - t0[0])
+        p0 = jnp.exp(t0[0])
+        below = c[0] + m[0] * (pressure / p0 - 1.0)
         above = c[-1] + m[-1] * (t - t0[-1])
-        return jnp.where(t < t0[0], below, jnp.where(t > t0[-1], above, inside))
-
-    def open_below(self):
-        return jnp.exp(self.log_pressure[0])
+        return jnp.where(pressure < p0, below, jnp.where(t > t0[-1], above, inside))

@@ -3,7 +3,7 @@ compliant layer (`bem._layer`) in series with the half-space (docs/in-service.md
 
 At every grid point the bodies' approach Δ less the gap g less the elastic displacement u = C p is
 taken up by the layer: `u + c(p) + g − Δ = 0` where the point carries pressure, `≥ 0` where it does
-not (a layer that opens), with `Σ p a = F` (a the pixel area). In units of the grid spacing s and of
+not (where the layer lets go), with `Σ p a = F` (a the pixel area). In units of the grid spacing s and of
 the modulus E (x = p/E): `R(x) = C x + c(E x)/s + g/s − Δ/s`. The energy `½xᵀCx + Σ∫c + Σ g x` is
 convex, and Newton's method on the points that carry pressure, with the load as a constraint,
 solves it: each step two conjugate-gradient solves with `H = C + diag(c'(E x) E/s)` (symmetric
@@ -39,8 +39,8 @@ class LayeredSolution(eqx.Module):
     **Fields:** `loads` (N); `pressure` (Pa, loads × n × n); `approach` (m), the bodies' approach
     Δ (the layer's closure plus the elastic displacement plus the gap at a loaded point);
     `stiffness` (N/m), dF/dΔ; `tilt_stiffness` (N·m/rad, loads × 2), about the axes along the
-    rows and the columns through the map's centre; `contact_fraction`, the share of points at or
-    above the layer's `open_below`; `status` (0 = ok); `iterations` (Newton steps).
+    rows and the columns through the map's centre; `contact_fraction`, the share of points that carry
+    pressure; `status` (0 = ok); `iterations` (Newton steps).
     """
 
     loads: Float[Array, " loads"]
@@ -114,10 +114,9 @@ class _Grid(eqx.Module):
 def _newton(grid: _Grid, total, max_iterations: int):
     """The converged `(x, Δ/s, loaded, iterations, converged)` at the load `total` (Σx)."""
     n2 = grid.gap.size
-    opens = grid.layer.opens
 
     def loaded_set(x, r):
-        return (x > 0) | (r < 0) if opens else jnp.ones_like(x, bool)
+        return (x > 0) | (r < 0)
 
     def step(state):
         x, approach, _, k, _ = state
@@ -127,15 +126,13 @@ def _newton(grid: _Grid, total, max_iterations: int):
         y1, y2 = solve(jnp.ones_like(x)), solve(r)
         lam = (total - jnp.sum(x) + jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
         dx = jnp.where(loaded, -y2 + lam * y1, 0.0)
-        moved = x + dx
-        # A layer that opens lets a point go to zero; one that does not keeps it a tenth of the way.
-        x_new = jnp.where(moved > 0, moved, 0.0 if opens else 0.1 * x)
+        x_new = jnp.maximum(x + dx, 0.0)  # a point pushed below zero lets go
         r_new = grid.residual(x_new, approach + lam)
         held = loaded_set(x_new, r_new)
-        # Loaded points off their balance, open ones that penetrate (a layer that opens), relative to
+        # Loaded points off their balance, open ones that penetrate, relative to
         # the displacements at stake: the gap's relief and the approach (the layer's closure on a flat).
         scale = jnp.maximum(jnp.max(grid.gap) - jnp.min(grid.gap), jnp.abs(approach + lam - jnp.min(grid.gap)))
-        worst = jnp.max(jnp.where(x_new > 0, jnp.abs(r_new), jnp.maximum(-r_new, 0.0) if opens else 0.0))
+        worst = jnp.max(jnp.where(x_new > 0, jnp.abs(r_new), jnp.maximum(-r_new, 0.0)))
         done = (worst <= grid.tolerance * scale) & (jnp.abs(jnp.sum(x_new) - total) <= grid.tolerance * total)
         return x_new, approach + lam, held, k + 1, done
 
@@ -214,7 +211,7 @@ def _solve_layered(gap, size, modulus, loads, layer, substrate: AbstractSubstrat
     ok = status == Status.OK
     nan = lambda v, unit: jnp.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)), v * unit, jnp.nan)  # noqa: E731
     pressure = x * modulus
-    fraction = jnp.mean(pressure >= jnp.maximum(layer.open_below(), jnp.finfo(gap.dtype).tiny), axis=(1, 2))
+    fraction = jnp.mean(pressure > 0, axis=(1, 2))
     return LayeredSolution(
         loads=loads,
         pressure=nan(pressure, 1.0),
