@@ -3,6 +3,7 @@ tables FE codes read, a driven mass on the joint, sharded parameter sweeps, and 
 long load sweeps."""
 
 from ._approach_sum import Approach, approach_quadrature, approach_star
+from ._beam import lap_beam_frequency
 from ._chunks import CHUNK, map_in_chunks, solve_sweep
 from ._fe_tables import interface_csv, pressure_overclosure, stick_friction
 from ._interface import InterfaceLaw, interface_law
@@ -33,6 +34,7 @@ __all__ = [
     "pressure_overclosure",
     "stick_friction",
     "interface_csv",
+    "lap_beam_frequency",
     "SweepResult",
     "CHUNK",
     "map_in_chunks",
