@@ -5,8 +5,9 @@ vmappable, differentiable, with an optional hardness cap; `solve_path` follows a
 the plastic flattening kept; `solve_layered` is the two-scale contact of a mesoscale gap with the
 roughness a compliant layer (`WinklerLayer`, or a model's law as a `TabulatedLayer`).
 `bem_stiffness(topography, E, loads)` solves the same problem with ContactMechanics (the `bem`
-extra), the independent check; `reference_curves(scene, loads)` synthesises realisations of a scene's surface and reports their
-mean, spread and the grid's convergence, cached on disk (`ResultCache`).
+extra), the independent check; `reference_curves(scene, loads)` synthesises realisations of a
+scene's surface and reports their mean, spread and the grid's convergence, cached on disk
+(`ResultCache`).
 """
 
 from ..models import register_model
