@@ -171,3 +171,11 @@ def test_a_traced_bad_load_leaves_the_good_one(with_a_bad_load, paraboloid):
 def test_a_layer_that_is_not_one_is_refused():
     with pytest.raises(ValueError, match="layer = 3.0 must be bem.WinklerLayer"):
         bem.solve_layered(PARABOLOID, L, E, LOADS, 3.0)
+
+
+def test_a_point_pressed_beyond_the_layers_table_is_flagged():
+    scene = jc.table1_scene().with_model("persson")
+    layer = bem.TabulatedLayer.from_law(jc.interface_law(scene, np.geomspace(1e4, 1e6, 5), in_service=False))
+    # The loads alone are 5 and 20 MPa over the map.
+    solution = bem.solve_layered(PARABOLOID, L, E, LOADS, layer, substrate=bem.Free())
+    assert np.all(np.asarray(solution.status) == jc.Status.LOAD_OUT_OF_RANGE)

@@ -1,14 +1,16 @@
 """The roughness of an interface as a compliant layer: local nominal pressure p ↦ the layer's closure
-c(p) (m), increasing in p, between two smooth elastic bodies (`bem.solve_layered`, docs/in-service.md).
+c(p) (m), increasing in p, between two smooth elastic bodies (`bem.solve_layered`, docs/bolted-joint.md).
 
-Every layer has a finite closure at p = 0, below which it lets go (the point carries no pressure).
+Every layer has a finite closure at p = 0, below which it lets go (the point carries no pressure),
+and a highest pressure at which its law holds (a point pressed beyond it is flagged).
 `WinklerLayer(stiffness)` is linear, `c = p/k`. `TabulatedLayer` carries a model's closure law on a
 table of pressures (`jaxcontact.interface_law`): a cubic Hermite interpolant in ln p through the
-closures with the slopes `dc/dln p = p/k_n(p)`, continued linearly in ln p above the table and
-linearly in p below it, with its tangent `1/k_n(p₀)` at the smallest pressure p₀: it lets go at
-`c(p₀) − p₀/k_n(p₀)`. Persson's law would open without bound as p → 0 (its pressure falls as
-`e^(−u/u₀)`); below p₀ it carries so little that the choice changes nothing but whether a point
-counts as in contact.
+closures with the slopes `dc/dln p = p/k_n(p)`; below the table it continues with its tangent
+`1/k_n(p₀)` at the smallest pressure p₀, and lets go at `c(p₀) − p₀/k_n(p₀)`. Persson's law
+would open without bound as p → 0 (its pressure falls as `e^(−u/u₀)`); below p₀ it carries so
+little that the choice changes nothing but whether a point counts as in contact. Its highest
+pressure is the table's last (the model's own range ends somewhere: every measured summit
+touching, a closed interface).
 """
 
 from __future__ import annotations
@@ -32,6 +34,10 @@ class AbstractLayer(eqx.Module):
     def closure(self, pressure):
         """The layer's closure (m) at `pressure` (Pa)."""
 
+    @abc.abstractmethod
+    def highest(self):
+        """The highest pressure (Pa) at which the law holds (a point above it is flagged)."""
+
     def compliance(self, pressure):
         """`dc/dp` (m/Pa) at `pressure`, elementwise (forward-mode)."""
         return jax.jvp(self.closure, (pressure,), (jnp.ones_like(pressure),))[1]
@@ -50,13 +56,17 @@ class WinklerLayer(AbstractLayer):
     def closure(self, pressure):
         return pressure / self.stiffness
 
+    def highest(self):
+        return jnp.asarray(jnp.inf, self.stiffness.dtype)
+
 
 class TabulatedLayer(AbstractLayer):
     """A closure law tabulated at increasing pressures (module docstring).
 
     **Arguments:** `pressure` (Pa, increasing, positive), `closure` (m, increasing), `stiffness` (the
     loading tangent per unit area `k_n = dp/dc`, Pa/m, positive). `from_law(law)` takes a
-    `jaxcontact.InterfaceLaw` (its points with status 0).
+    `jaxcontact.InterfaceLaw` (its points with status 0: give pressures within the model's range,
+    since under a trace every point is taken).
     """
 
     log_pressure: Float[Array, " points"]
@@ -107,5 +117,8 @@ class TabulatedLayer(AbstractLayer):
         )
         p0 = jnp.exp(t0[0])
         below = c[0] + m[0] * (pressure / p0 - 1.0)
-        above = c[-1] + m[-1] * (t - t0[-1])
+        above = c[-1] + m[-1] * (t - t0[-1])  # for the iteration's way there: a point left here is flagged
         return jnp.where(pressure < p0, below, jnp.where(t > t0[-1], above, inside))
+
+    def highest(self):
+        return jnp.exp(self.log_pressure[-1])

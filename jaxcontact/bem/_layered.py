@@ -40,7 +40,8 @@ class LayeredSolution(eqx.Module):
     Δ (the layer's closure plus the elastic displacement plus the gap at a loaded point);
     `stiffness` (N/m), dF/dΔ; `tilt_stiffness` (N·m/rad, loads × 2), about the axes along the
     rows and the columns through the map's centre; `contact_fraction`, the share of points that carry
-    pressure; `status` (0 = ok); `iterations` (Newton steps).
+    pressure; `status` (0 = ok; `LOAD_OUT_OF_RANGE` where a point's pressure exceeds the layer's
+    `highest`); `iterations` (Newton steps).
     """
 
     loads: Float[Array, " loads"]
@@ -207,7 +208,10 @@ def _solve_layered(gap, size, modulus, loads, layer, substrate: AbstractSubstrat
     x, approach, K, tilt, loaded, iterations, converged = jax.vmap(lambda t: layered_at(grid, t, max_iterations))(
         totals
     )
-    status = jnp.where(usable, jnp.where(converged, Status.OK, Status.NOT_CONVERGED), Status.INVALID_LOAD)
+    status = jnp.where(converged, Status.OK, Status.NOT_CONVERGED)
+    # A point pressed beyond the layer's law: the answer would rest on an extrapolation.
+    beyond = jnp.max(x, axis=(1, 2)) * modulus > layer.highest()
+    status = jnp.where(usable, jnp.where(beyond, Status.LOAD_OUT_OF_RANGE, status), Status.INVALID_LOAD)
     ok = status == Status.OK
     nan = lambda v, unit: jnp.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)), v * unit, jnp.nan)  # noqa: E731
     pressure = x * modulus
