@@ -99,9 +99,11 @@ class TabulatedLayer(AbstractLayer):
         return cls(law.pressure[ok], law.closure[ok], law.normal_stiffness[ok])
 
     def closure(self, pressure):
-        tiny = jnp.finfo(self.closure_values.dtype).tiny
-        t = jnp.log(jnp.maximum(pressure, tiny))
         t0, c, m = self.log_pressure, self.closure_values, self.slopes
+        p0 = jnp.exp(t0[0])
+        # The logarithm of a pressure below the table, which its branch does not use, would give
+        # the derivatives of the iteration's compliance (a second derivative) an infinite factor.
+        t = jnp.log(jnp.where(pressure < p0, p0, pressure))
         k = jnp.clip(jnp.searchsorted(t0, t, side="right") - 1, 0, t0.shape[0] - 2)
         a, b = t0[k], t0[k + 1]
         h = b - a
@@ -115,7 +117,6 @@ class TabulatedLayer(AbstractLayer):
             + (-2 * u**3 + 3 * u**2) * c[k + 1]
             + (u**3 - u**2) * h * m[k + 1]
         )
-        p0 = jnp.exp(t0[0])
         below = c[0] + m[0] * (pressure / p0 - 1.0)
         above = c[-1] + m[-1] * (t - t0[-1])  # for the iteration's way there: a point left here is flagged
         return jnp.where(pressure < p0, below, jnp.where(t > t0[-1], above, inside))
