@@ -100,6 +100,7 @@ LONGEST_FIRST = (
     "test_bem.py",
     "test_api.py",
     "test_bem_path.py",
+    "test_bem_layered.py",
     "test_bem_tangential.py",
     "test_load_path.py",
     "test_measured_spectrum.py",
