@@ -284,6 +284,16 @@ def test_the_commands_stick_slope_is_k_t_at_the_highest_pressure_that_has_one(co
     assert (float(mu), float(slope)) == pytest.approx((0.3, float(law.tangential_stiffness[highest])), rel=1e-9)
 
 
+def test_the_commands_ansys_stiffnesses_are_k_n_and_k_t_at_the_stick_pressure(command):
+    # FKN (real constant 3) and FKT (12), negative: ANSYS's absolute stiffnesses, Pa/m.
+    law = jc.interface_law(jc.table1_scene(), np.geomspace(1e4, 1e8, 9))
+    highest = np.flatnonzero(np.asarray(law.unloading_status) == 0)[-1]
+    rows = [line.split("!")[0].split(",") for line in (command[1] / "interface.mac").read_text().splitlines()]
+    written = {int(r[2]): -float(r[3]) for r in rows if r[0] == "RMODIF"}
+    expected = {3: float(law.normal_stiffness[highest]), 12: float(law.tangential_stiffness[highest])}
+    assert written == pytest.approx(expected, rel=1e-9)
+
+
 def test_the_command_draws_the_law(command):
     assert (command[1] / "interface.png").stat().st_size > 10_000
 

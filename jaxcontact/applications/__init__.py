@@ -5,7 +5,7 @@ long load sweeps."""
 from ._approach_sum import Approach, approach_quadrature, approach_star
 from ._beam import lap_beam_frequency
 from ._chunks import CHUNK, map_in_chunks, solve_sweep
-from ._fe_tables import interface_csv, pressure_overclosure, stick_friction
+from ._fe_tables import ansys_stiffness, interface_csv, pressure_overclosure, stick_friction
 from ._interface import InterfaceLaw, interface_law
 from ._path import LoadPath, solve_path
 from ._sharded_sweep import SweepResult, sweep
@@ -33,6 +33,7 @@ __all__ = [
     "interface_law",
     "pressure_overclosure",
     "stick_friction",
+    "ansys_stiffness",
     "interface_csv",
     "lap_beam_frequency",
     "SweepResult",

@@ -1,11 +1,12 @@
 """An `InterfaceLaw` written as finite-element codes read it: CalculiX's and Abaqus's tabular
-pressure–overclosure block, and a CSV with the law's provenance."""
+pressure–overclosure block, ANSYS's contact stiffnesses FKN and FKT at one pressure, and a CSV with
+the law's provenance."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..core import Scene, tangential_stiffness
+from ..core import Scene, solve, tangential_stiffness
 from ..numerics import InputError, check_positive
 from ..quantities import status_message
 from ._interface import InterfaceLaw
@@ -65,6 +66,42 @@ def stick_friction(scene: Scene, mu: float, pressure: float) -> str:
     return (
         f"** Mindlin's full-stick slope (Pa/m) at the nominal pressure {pressure:.6g} Pa (docs/in-service.md)\n"
         f"*FRICTION\n{mu:.9g}, {k_t:.9e}\n"
+    )
+
+
+# ANSYS's contact real constants by position (CONTA17x: R1, R2, FKN, FTOLN, ICONT, PINB, PMAX, PMIN,
+# TAUMAX, CNOF, FKOP, FKT, ...); a negative value is an absolute stiffness (force/length³), not a factor.
+_FKN, _FKT = 3, 12
+
+
+def ansys_stiffness(scene: Scene, pressure: float) -> str:
+    """APDL lines that set a contact pair's normal and tangential stiffness to the joint's at one
+    nominal `pressure` (the preload's; both grow with it): `RMODIF` of FKN and FKT to minus k_n(p)
+    (the loading tangent per unit area) and k_t(p) (Mindlin's full-stick slope per unit area), in
+    Pa/m, which ANSYS reads as absolute values. The real-constant set is the parameter `JC_REAL`,
+    set to 1 in the first line (edit it to the pair's).
+
+    **Arguments:** the `scene` and the nominal `pressure` (Pa). **Raises:** `ValueError` for a bad
+    `pressure`, or where the model gives no stiffness there (its status says why).
+    """
+    check_positive("pressure", pressure, "Pa", "pressure")
+    loads = np.array([pressure * float(scene.area)])
+    stiffnesses = []
+    for solution in (solve(scene, loads), tangential_stiffness(scene, loads)):
+        if int(solution.status[0]) != 0:
+            raise InputError(
+                f"pressure = {pressure:g} Pa: no stiffness there ({status_message(int(solution.status[0]))})"
+            )
+        stiffnesses.append(float(solution.stiffness[0]) / float(scene.area))
+    k_n, k_t = stiffnesses
+    s, m = scene.surface, scene.material
+    return (
+        f"! jaxcontact {_version()}, model {scene.model.name}: D = {float(s.D):.6g}, G = {float(s.G):.6g} m, "
+        f"E = {float(m.E):.6g} Pa, A_a = {float(scene.area):.6g} m^2\n"
+        f"! contact stiffnesses at the nominal pressure {pressure:.6g} Pa (negative: absolute, Pa/m)\n"
+        "*SET,JC_REAL,1  ! the contact pair's real-constant set\n"
+        f"RMODIF,JC_REAL,{_FKN},{-k_n:.9e}  ! FKN: k_n, the loading tangent per unit area\n"
+        f"RMODIF,JC_REAL,{_FKT},{-k_t:.9e}  ! FKT: k_t, Mindlin's full-stick slope per unit area\n"
     )
 
 
