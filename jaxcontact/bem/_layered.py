@@ -28,6 +28,7 @@ from ..quantities import Status
 from ._checks import check_arguments, check_iteration
 from ._layer import AbstractLayer
 from ._operator import SUBSTRATES, AbstractSubstrate, Compliance, Periodic
+from ._tangent import conjugate_gradients
 
 # Each Newton step's linear solves, relative to their right-hand side (float32, float64).
 _CG_TOLERANCE = (1e-6, 1e-12)
@@ -52,29 +53,6 @@ class LayeredSolution(eqx.Module):
     contact_fraction: Float[Array, " loads"]
     status: Int[Array, " loads"]
     iterations: Int[Array, " loads"]
-
-
-def _cg(matvec, b, diagonal, tolerance, max_steps):
-    """Conjugate gradients preconditioned by the inverse `diagonal` of the operator (Jacobi: a point
-    whose layer is far softer than the half-space nearly decouples), from 0 until
-    `‖b − Ax‖ ≤ tolerance ‖b‖`."""
-    bound = (tolerance * jnp.linalg.norm(b)) ** 2
-
-    def running(state):
-        return (jnp.sum(state[1] * state[1]) > bound) & (state[4] < max_steps)
-
-    def body(state):
-        x, r, d, rz, step = state
-        Ad = matvec(d)
-        alpha = rz / jnp.sum(d * Ad)
-        x, r = x + alpha * d, r - alpha * Ad
-        z = r / diagonal
-        rz_new = jnp.sum(r * z)
-        return x, r, z + (rz_new / rz) * d, rz_new, step + 1
-
-    z = b / diagonal
-    x, *_ = jax.lax.while_loop(running, body, (jnp.zeros_like(b), b, z, jnp.sum(b * z), 0))
-    return x
 
 
 class _Grid(eqx.Module):
@@ -106,7 +84,7 @@ class _Grid(eqx.Module):
         steps, tolerance = 4 * x.size + 200, _CG_TOLERANCE[x.dtype == jnp.float64]
 
         def cg(operator, b):
-            return _cg(operator, b, jacobi, tolerance, steps)
+            return conjugate_gradients(operator, b, jnp.zeros_like(b), tolerance, steps, jacobi)
 
         # The solve's derivative is the same solve again (symmetric H): reverse mode through K.
         return lambda v: jax.lax.custom_linear_solve(matvec, jnp.where(loaded, v, 0.0), cg, symmetric=True), matvec

@@ -25,24 +25,30 @@ import jax.numpy as jnp
 from ._operator import Compliance
 
 
-def _conjugate_gradients(matvec, b, start, tolerance: float, max_steps: int):
-    """Plain CG from `start` until `‖b − A x‖ ≤ tolerance ‖b‖` (or `max_steps`); 0 for b = 0."""
+def conjugate_gradients(matvec, b, start, tolerance: float, max_steps: int, diagonal=None):
+    """CG from `start` until `‖b − A x‖ ≤ tolerance ‖b‖` (or `max_steps`); 0 for b = 0. With
+    `diagonal`, preconditioned by its inverse (Jacobi)."""
     bound = (tolerance * jnp.linalg.norm(b)) ** 2
 
+    def precondition(r):
+        return r if diagonal is None else r / diagonal
+
     def running(state):
-        _, r, _, rr, step = state
-        return (rr > bound) & (step < max_steps) & (bound > 0)
+        _, r, _, _, step = state
+        return (jnp.sum(r * r) > bound) & (step < max_steps) & (bound > 0)
 
     def body(state):
-        x, r, d, rr, step = state
+        x, r, d, rz, step = state
         Ad = matvec(d)
-        alpha = rr / jnp.sum(d * Ad)
+        alpha = rz / jnp.sum(d * Ad)
         x, r = x + alpha * d, r - alpha * Ad
-        rr_new = jnp.sum(r * r)
-        return x, r, r + (rr_new / rr) * d, rr_new, step + 1
+        z = precondition(r)
+        rz_new = jnp.sum(r * z)
+        return x, r, z + (rz_new / rz) * d, rz_new, step + 1
 
     r = b - matvec(start)
-    x, *_ = jax.lax.while_loop(running, body, (start, r, r, jnp.sum(r * r), 0))
+    z = precondition(r)
+    x, *_ = jax.lax.while_loop(running, body, (start, r, z, jnp.sum(r * z), 0))
     return jnp.where(bound > 0, x, 0.0)
 
 
@@ -53,7 +59,7 @@ def _active_solve(compliance: Compliance, active, vector, start, tolerance: floa
         return jnp.where(active, compliance(jnp.where(active, v, 0.0)), v)
 
     def solve(operator, b):
-        return _conjugate_gradients(operator, b, start, tolerance, 4 * b.shape[0] + 200)
+        return conjugate_gradients(operator, b, start, tolerance, 4 * b.shape[0] + 200)
 
     return jax.lax.custom_linear_solve(matvec, vector, solve, symmetric=True)
 
