@@ -8,6 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import refused_type
 
 import jaxcontact as jc
 from jaxcontact import bem
@@ -171,7 +172,7 @@ def test_a_traced_bad_load_leaves_the_good_one(with_a_bad_load, paraboloid):
 
 
 def test_a_layer_that_is_not_one_is_refused():
-    with pytest.raises(ValueError, match="layer = 3.0 must be bem.WinklerLayer"):
+    with refused_type("layer", "layer = 3.0 must be bem.WinklerLayer"):
         bem.solve_layered(PARABOLOID, L, E, LOADS, 3.0)
 
 
