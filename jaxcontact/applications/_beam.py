@@ -58,7 +58,7 @@ def lap_beam_frequency(rotational_stiffness, *, half_length, width, height, modu
         below = _equation(middle, held) < 0
         return jnp.where(below, middle, low), jnp.where(below, high, middle)
 
-    low, high = jax.lax.fori_loop(0, 80, bisect, (jnp.asarray(1e-9) * held**0, jnp.asarray(_RIGID) * held**0))
+    low, high = jax.lax.fori_loop(0, 80, bisect, (jnp.full_like(held, 1e-9), jnp.full_like(held, _RIGID)))
     root = jax.lax.stop_gradient(0.5 * (low + high))
     # One Newton correction from the held root: its derivative is the implicit one, −F_k/F_z.
     slope = jax.grad(_equation)(root, held)

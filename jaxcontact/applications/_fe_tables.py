@@ -57,16 +57,21 @@ def stick_friction(scene: Scene, mu: float, pressure: float) -> str:
     if isinstance(mu, bool) or not (isinstance(mu, (int, float)) and 0 < mu < float("inf")):
         raise InputError(f"mu = {mu!r} must be a friction coefficient in (0, inf)")
     check_positive("pressure", pressure, "Pa", "pressure")
-    solution = tangential_stiffness(scene, pressure * scene.area)
-    if int(solution.status) != 0:
-        raise InputError(
-            f"pressure = {pressure:g} Pa: no tangential stiffness there ({status_message(int(solution.status))})"
-        )
-    k_t = float(solution.stiffness / scene.area)
+    k_t = _per_unit_area(scene, pressure, tangential_stiffness, "tangential stiffness")
     return (
         f"** Mindlin's full-stick slope (Pa/m) at the nominal pressure {pressure:.6g} Pa (docs/in-service.md)\n"
         f"*FRICTION\n{mu:.9g}, {k_t:.9e}\n"
     )
+
+
+def _per_unit_area(scene: Scene, pressure: float, stiffness_of, what: str) -> float:
+    """`stiffness_of(scene, loads)`'s stiffness per unit area (Pa/m) at the nominal `pressure`;
+    `ValueError` naming `what` and the point's status where it has none."""
+    solution = stiffness_of(scene, np.array([pressure * float(scene.area)]))
+    status = int(solution.status[0])
+    if status != 0:
+        raise InputError(f"pressure = {pressure:g} Pa: no {what} there ({status_message(status)})")
+    return float(solution.stiffness[0]) / float(scene.area)
 
 
 # ANSYS's contact real constants by position (CONTA17x: R1, R2, FKN, FTOLN, ICONT, PINB, PMAX, PMIN,
@@ -85,15 +90,8 @@ def ansys_stiffness(scene: Scene, pressure: float) -> str:
     `pressure`, or where the model gives no stiffness there (its status says why).
     """
     check_positive("pressure", pressure, "Pa", "pressure")
-    loads = np.array([pressure * float(scene.area)])
-    stiffnesses = []
-    for solution in (solve(scene, loads), tangential_stiffness(scene, loads)):
-        if int(solution.status[0]) != 0:
-            raise InputError(
-                f"pressure = {pressure:g} Pa: no stiffness there ({status_message(int(solution.status[0]))})"
-            )
-        stiffnesses.append(float(solution.stiffness[0]) / float(scene.area))
-    k_n, k_t = stiffnesses
+    k_n = _per_unit_area(scene, pressure, solve, "stiffness")
+    k_t = _per_unit_area(scene, pressure, tangential_stiffness, "stiffness")
     s, m = scene.surface, scene.material
     return (
         f"! jaxcontact {_version()}, model {scene.model.name}: D = {float(s.D):.6g}, G = {float(s.G):.6g} m, "

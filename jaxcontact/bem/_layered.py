@@ -1,5 +1,5 @@
 """Two-scale contact: a mesoscale gap between two smooth elastic bodies, the roughness between them a
-compliant layer (`bem._layer`) in series with the half-space (docs/in-service.md).
+compliant layer (`bem._layer`) in series with the half-space (docs/bolted-joint.md).
 
 At every grid point the bodies' approach Δ less the gap g less the elastic displacement u = C p is
 taken up by the layer: `u + c(p) + g − Δ = 0` where the point carries pressure, `≥ 0` where it does
@@ -59,7 +59,7 @@ class _Grid(eqx.Module):
     """The problem in grid units (module docstring) with its layer, one load."""
 
     compliance: Compliance
-    layer: object
+    layer: AbstractLayer
     gap: Float[Array, "n n"]  # g/s
     modulus: Float[Array, ""]
     spacing: Float[Array, ""]
@@ -102,9 +102,8 @@ def _newton(grid: _Grid, total, max_iterations: int):
         r = grid.residual(x, approach)
         loaded = loaded_set(x, r)
         solve, _ = grid.solver(x, loaded)
-        y1, y2 = solve(jnp.ones_like(x)), solve(r)
-        lam = (total - jnp.sum(x) + jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
-        dx = jnp.where(loaded, -y2 + lam * y1, 0.0)
+        step_x, lam = _bordered(solve, loaded, -r, total - jnp.sum(x), 1.0)
+        dx = jnp.where(loaded, step_x, 0.0)
         x_new = jnp.maximum(x + dx, 0.0)  # a point pushed below zero lets go
         r_new = grid.residual(x_new, approach + lam)
         held = loaded_set(x_new, r_new)
@@ -121,6 +120,16 @@ def _newton(grid: _Grid, total, max_iterations: int):
     x0 = jnp.full(grid.gap.shape, total / n2)
     start = (x0, jnp.mean(grid.gap), jnp.ones_like(x0, bool), 0, jnp.zeros((), bool))
     return jax.lax.while_loop(running, step, start)
+
+
+def _bordered(solve, loaded, bx, ba, sign):
+    """`(x, a)` solving J (x, a) = (b_x, b_a) on the loaded points, J = [[H, −1], [1ᵀ, 0]] (sign = 1:
+    a Newton step with Δ as the load's multiplier) or its transpose [[H, 1], [−1ᵀ, 0]] (sign = −1),
+    by the Schur complement: x = H⁻¹b_x + sign·a H⁻¹1 with Σx = sign·b_a (`solve`: H⁻¹ on them).
+    Points not loaded keep b_x."""
+    y1, y2 = solve(jnp.ones_like(bx)), solve(bx)
+    a = sign * (sign * ba - jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
+    return jnp.where(loaded, y2 + sign * a * y1, bx), a
 
 
 def _implicit(grid: _Grid, x_star, approach_star, loaded, total):
@@ -141,12 +150,7 @@ def _implicit(grid: _Grid, x_star, approach_star, loaded, total):
         return join(jnp.where(loaded, matvec_h(vx) - va, vx), jnp.sum(jnp.where(loaded, vx, 0.0)))
 
     def bordered(b, sign):
-        # J = [[H, −1], [1ᵀ, 0]] (sign = 1) or its transpose [[H, 1], [−1ᵀ, 0]] (sign = −1), by the
-        # Schur complement: x = H⁻¹ b_x + sign·a H⁻¹1, with Σx = sign·b_a.
-        bx, ba = split(b)
-        y1, y2 = solve(jnp.ones_like(bx)), solve(bx)
-        va = sign * (sign * ba - jnp.sum(jnp.where(loaded, y2, 0.0))) / jnp.sum(jnp.where(loaded, y1, 0.0))
-        return join(jnp.where(loaded, y2 + sign * va * y1, bx), va)
+        return join(*_bordered(solve, loaded, *split(b), sign))
 
     rhs = join(jnp.where(loaded, grid.residual(x_star, approach_star), 0.0), jnp.sum(x_star) - total)
     delta = jax.lax.custom_linear_solve(
