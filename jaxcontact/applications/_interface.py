@@ -14,7 +14,6 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..core import Outputs, Scene, solve
-from ..models import has_unloading_law
 from ..numerics import InputError, check_positive
 from ..physics import Unloading, mindlin_ratio
 from ..quantities import Status
@@ -138,8 +137,8 @@ _UNLOADING = Outputs(regime_shares=False, stiffness=Unloading())
 def _unloading(scene: Scene, loads, status, loading, wanted: bool):
     """The unloading stiffness (N/m) at `loads` and its status, which is the loading `status` where that
     is not ok; the `loading` stiffness itself for a model that unloads as it loads (no second solve);
-    `INVALID_PARAMETERS` for a model without an unloading law or where they are not `wanted`."""
-    if not (wanted and has_unloading_law(scene.model)):
+    `INVALID_PARAMETERS` where they are not `wanted`."""
+    if not wanted:
         return jnp.full(loads.shape, jnp.nan), jnp.full(loads.shape, Status.INVALID_PARAMETERS, jnp.int32)
     if scene.model.unloads_as_it_loads():
         return loading, status

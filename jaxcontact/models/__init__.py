@@ -13,7 +13,7 @@ from ._base import (
 )
 from ._greenwood_williamson import GreenwoodWilliamson
 from ._jzz2010 import JZZ2010
-from ._largest_spot import AbstractJoint, AbstractLargestSpotModel, curve_solver, has_unloading_law
+from ._largest_spot import AbstractJoint, AbstractLargestSpotModel, curve_solver
 from ._load_pieces import AbstractLoadPieces, GenericLoadPieces, PowerLawLoadPieces
 from ._measured_asperities import MeasuredAsperities
 from ._persson import Persson
@@ -28,7 +28,6 @@ __all__ = [
     "AbstractSweptModel",
     "CLOSED_INTERFACE",
     "curve_solver",
-    "has_unloading_law",
     "AbstractLoadPieces",
     "build_model",
     "DISTRIBUTIONS",

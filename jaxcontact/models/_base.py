@@ -90,11 +90,13 @@ class AbstractContactModel(eqx.Module):
     single_spots: ClassVar[bool] = True
 
     @abc.abstractmethod
-    def point_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, ""]], PointResult]:
+    def point_solver(self, s: DimensionlessScene, unloading: bool = False) -> Callable[[Float[Array, ""]], PointResult]:
         """Set up everything that does not depend on the load; returns `F* ↦ PointResult`.
 
         **Arguments:** `s`, the scene's dimensionless groups (valid parameters: the caller has
-        put stand-ins where they are not).
+        put stand-ins where they are not); `unloading`, whether each result's stiffness is the
+        initial unloading tangent at the state its load reaches on loading (`Unloading()`, docs/in-service.md)
+        rather than the loading one; a model that `unloads_as_it_loads` returns its loading tangent.
         """
 
     @abc.abstractmethod
@@ -159,8 +161,8 @@ class AbstractSweptModel(AbstractContactModel):
         memory of the path (`jaxcontact.solve_path`)."""
 
     @typing.final
-    def point_solver(self, s):
-        sweep = self.sweep_solver(s)
+    def point_solver(self, s, unloading: bool = False):
+        sweep = self.unloading_solver(s) if unloading and not self.unloads_as_it_loads() else self.sweep_solver(s)
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
     @typing.final

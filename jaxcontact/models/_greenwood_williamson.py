@@ -123,7 +123,8 @@ class GreenwoodWilliamson(AbstractContactModel):
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s):
+    def point_solver(self, s, unloading: bool = False):
+        del unloading  # elastic: unloading retraces loading
         solve = self._separation_solver(summit_statistics(s, self.spectrum))
         return lambda F_star: separated_point(solve(F_star))
 

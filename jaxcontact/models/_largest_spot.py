@@ -17,18 +17,12 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
-from ..numerics import InputError, NewtonBisection
+from ..numerics import NewtonBisection
 from ..numerics._elementwise import unrolled_sum
 from ..quantities import DimensionlessScene, Status
 from ._base import AbstractContactModel, AbstractSweptModel, JointResponse, PointResult
 from ._load_pieces import AbstractLoadPieces
 from ._spots import SpotFamilies, SpotState
-
-
-def has_unloading_law(model: AbstractContactModel) -> bool:
-    """Whether `model` gives an unloading (dynamic) and a tangential stiffness: a largest-spot model (its
-    joint's `unloading_stiffness`), a swept one (its load path's) or one that unloads as it loads."""
-    return isinstance(model, (AbstractLargestSpotModel, AbstractSweptModel)) or model.unloads_as_it_loads()
 
 
 def curve_solver(
@@ -37,18 +31,9 @@ def curve_solver(
     """`F*` (1-D) ↦ the `PointResult`s of all loads: a swept model's sweep, else `point_solver`
     mapped over the loads (`jax.vmap`). With `unloading`, each result's stiffness is the initial
     unloading tangent from the state its load reaches on loading."""
-    if unloading and isinstance(model, AbstractLargestSpotModel):
-        return jax.vmap(model.point_solver(s, unloading=True))
-    if unloading and not has_unloading_law(model):
-        raise InputError(
-            f"model {model!r} has no unloading law: its unloading (dynamic) and tangential stiffnesses are "
-            "not available"
-        )
     if isinstance(model, AbstractSweptModel):
-        if unloading and not model.unloads_as_it_loads():
-            return model.unloading_solver(s)
-        return model.sweep_solver(s)
-    return jax.vmap(model.point_solver(s))
+        return model.unloading_solver(s) if unloading and not model.unloads_as_it_loads() else model.sweep_solver(s)
+    return jax.vmap(model.point_solver(s, unloading=unloading))
 
 
 class AbstractJoint(eqx.Module):

@@ -2,16 +2,21 @@
 density η and a tabulated summit-height PDF φ(z), as identified from profilometer scans (e.g. the
 Brake–Reuss beam interface, Porter & Brake, MSSP 192, 110210, 2023).
 
-With a rigid flat at height d over the heights' origin, every summit above d is a Hertz contact of
-interference `z − d`, independent of the others (GW 1966):
+With a rigid flat at height d over the heights' origin, every summit above d is a contact of
+interference `z − d`, independent of the others (GW 1966), carrying load on an area by its summit
+law: Hertz (`HertzSummits()`, GW's own) or the elastic–plastic fits of Kogut & Etsion
+(`KogutEtsionSummits()`, with the scene's hardness). For Hertz summits
 
     F/A_a = (4/3) E η √R J_{3/2}(d),   K/A_a = 2 E η √R J_{1/2}(d),   A_r/A_a = π η R J_1(d),
     J_n(d) = ∫_d^{z_max} (z − d)^n φ(z) dz,
 
-`K = -dF/dd` exactly (`dJ_{3/2}/dd = −(3/2) J_{1/2}`). φ is linear between its table's points, so each
-`J_n` is a sum of closed forms, one per interval: exact, and differentiable with respect to d, R, η and
-every value of the table. Load control solves `F(d) = F` for d between the lowest tabulated height
-(every summit in contact: beyond it the independent summits of GW no longer apply) and the highest.
+and in general each band of the law adds its own (`_summit_table`). `K = -dF/dd` exactly. φ is
+linear between its table's points, so each `J_n` is a sum of closed forms, one per interval:
+exact, and differentiable with respect to d, R, η, H and every value of the table. Load control
+solves `F(d) = F` for d below the highest summit, down to where the summits' contact areas add up to
+the nominal area (`CLOSED_INTERFACE`: flagged beyond). Below the lowest summit every summit is in
+contact and stays independent of the others, GW's assumption, which is less apt the larger the real
+area (`Solution.real_area`) grows.
 """
 
 from __future__ import annotations
@@ -19,20 +24,17 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ..numerics import InputError, NewtonBisection, PowerLaw, check_instance
+from ..physics._summit_law import SUMMIT_REGIMES, AbstractSummitLaw, HertzSummits
 from ..quantities import Status
-from ._base import (
-    CLOSED_INTERFACE,
-    LINEAR_ELASTIC_LIMIT,
-    AbstractContactModel,
-    separated_point,
-)
-from ._spots import Separated, SpotFamilies, SpotState, SummitCount
+from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._spots import SpotFamilies, SpotState, SummitCount
+from ._summit_table import SummitTable, log_load, residual, residual_slope, summit_table
 
+LOG_PI = math.log(math.pi)
 # The highest separation solved for, as a fraction of the heights' span below the top: loads lower
 # than the one it carries are out of range (near the top the load falls to zero as (z_max − d)^(7/2)).
 TOP_MARGIN = 1e-6
@@ -41,71 +43,60 @@ TOP_MARGIN = 1e-6
 SPOT_FLOOR = 1e-6
 
 
-def _power(t, p):
-    """`t^p` for `t ≥ 0`, 0 at 0 with a finite derivative (a kink of the integrand, not a NaN)."""
-    positive = t > 0
-    return jnp.where(positive, jnp.where(positive, t, 1.0) ** p, 0.0)
-
-
-def tail_integral(order: float, d, heights, pdf):
-    """`J_n(d) = ∫_d^{z_max} (z − d)^n φ(z) dz` for φ linear between `(heights, pdf)`, summed over the
-    intervals in closed form: on each, φ = φ(t0) + s (t − t0) in `t = z − d ∈ [t0, t1]`, and
-    `∫ t^n (φ0 + s (t − t0)) dt = φ0 [t^(n+1)/(n+1)] + s ([t^(n+2)/(n+2)] − t0 [t^(n+1)/(n+1)])`."""
-    t_low, t_high = jnp.maximum(heights[:-1] - d, 0.0), jnp.maximum(heights[1:] - d, 0.0)
-    slope = (pdf[1:] - pdf[:-1]) / (heights[1:] - heights[:-1])
-    phi_low = pdf[:-1] + slope * (d + t_low - heights[:-1])
-    first = (_power(t_high, order + 1.0) - _power(t_low, order + 1.0)) / (order + 1.0)
-    second = (_power(t_high, order + 2.0) - _power(t_low, order + 2.0)) / (order + 2.0)
-    return jnp.sum(phi_low * first + slope * (second - t_low * first))
-
-
-def _log_load(d, log_load_scale, heights, pdf):
-    return log_load_scale + jnp.log(tail_integral(1.5, d, heights, pdf))
-
-
-# The root finder's residual and slope take every traced value as an argument (it differentiates the
-# root implicitly, and a closure would hide them from it); increasing in y = −d.
-def _residual(y, args):
-    log_load_scale, heights, pdf, target = args
-    return _log_load(-y, log_load_scale, heights, pdf) - target, None
-
-
-def _residual_slope(y, args):
-    _, heights, pdf, _ = args
-    return 1.5 * tail_integral(0.5, -y, heights, pdf) / tail_integral(1.5, -y, heights, pdf)
-
-
 class MeasuredAsperities(AbstractContactModel):
-    """Greenwood–Williamson with measured statistics (module docstring): every summit elastic (Hertz),
-    as GW; the surface's D, G and l_min are not used. One regime, "e"; `Solution.a_l` is NaN.
+    """Greenwood–Williamson with measured statistics (module docstring); the surface's D, G and l_min
+    are not used. Four regimes, e, ep1, ep2 and p, the bands of the summit law (all "e" for Hertz
+    summits; a band's loading stiffness includes the summits crossing into it where the Kogut–Etsion
+    load jumps); `Solution.a_l` is NaN.
 
     **Arguments:**
 
     - `radius`: the summits' radius R, m (> 0).
     - `density`: summits per unit nominal area η, 1/m² (> 0).
-    - `heights`: the summit heights z at which the PDF is tabulated, m, increasing (≥ 2 points).
+    - `heights`: the summit heights z at which the PDF is tabulated, m, increasing (≥ 2 points); the
+      highest summits touch first.
     - `pdf`: φ(z) there, 1/m, ≥ 0; it is normalised to ∫φ dz = 1 (trapezoidal, φ being linear between points).
+    - `summits`: how one summit carries load, `HertzSummits()` (default) or `KogutEtsionSummits()`
+      (elastic–plastic, with the scene's hardness H and ν).
     - `root_finder`: the solve for each load's separation (`NewtonBisection()`).
 
     The fields are arrays: `jax.grad` reaches them through `eqx.tree_at` as it reaches the scene's
-    parameters.
+    parameters. `MeasuredAsperities.from_gaps` takes the PDF of the summits' initial gaps instead.
     """
 
     name: ClassVar[str] = "measured-asperities"
-    regimes: ClassVar[tuple[str, ...]] = ("e",)
+    regimes: ClassVar[tuple[str, ...]] = SUMMIT_REGIMES
     radius: Float[Array, ""]
     density: Float[Array, ""]
     heights: Float[Array, " table"]
     pdf: Float[Array, " table"]
+    summits: AbstractSummitLaw = HertzSummits()
     root_finder: NewtonBisection = NewtonBisection()
 
-    def __init__(self, radius, density, heights, pdf, root_finder: NewtonBisection = NewtonBisection()):
+    def __init__(
+        self,
+        radius,
+        density,
+        heights,
+        pdf,
+        summits: AbstractSummitLaw = HertzSummits(),
+        root_finder: NewtonBisection = NewtonBisection(),
+    ):
         self.radius, self.density = jnp.asarray(radius), jnp.asarray(density)
         self.heights, self.pdf = jnp.asarray(heights), jnp.asarray(pdf)
-        self.root_finder = root_finder
+        self.summits, self.root_finder = summits, root_finder
+
+    @classmethod
+    def from_gaps(cls, radius, density, gaps, pdf, **choices) -> MeasuredAsperities:
+        """The same model from the PDF of each summit's initial gap g to the flat (g ≥ 0 increasing,
+        m; the summits at g = 0 touch first), as tmdsimpy's Brake–Reuss example reads its file
+        (`normzinterp · z_max`): the heights are `max(g) − g`, in increasing order."""
+        gaps, pdf = jnp.asarray(gaps), jnp.asarray(pdf)
+        return cls(radius, density, gaps[-1] - gaps[::-1], pdf[::-1], **choices)
 
     def __check_init__(self):
         check_instance("root_finder", self.root_finder, NewtonBisection)
+        check_instance("summits", self.summits, AbstractSummitLaw)
         if self.heights.ndim != 1 or self.heights.shape != self.pdf.shape or self.heights.size < 2:
             raise InputError(
                 f"heights and pdf have shapes {self.heights.shape} and {self.pdf.shape}: give two 1-D tables of one "
@@ -118,90 +109,83 @@ class MeasuredAsperities(AbstractContactModel):
         _check_concrete(self)
 
     def unloads_as_it_loads(self):
-        return True  # elastic (Hertz) summits: unloading retraces loading
+        return self.summits.elastic  # Hertz summits retrace their loading curve
 
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s):
+    def point_solver(self, s, unloading: bool = False):
+        """`F* ↦ PointResult`; with `unloading`, each band's stiffness is its summits' initial unloading
+        stiffness at the state loading reaches (the same as loading's for Hertz summits)."""
         solve = self._separation_solver(self._table(s))
-        return lambda F_star: separated_point(solve(F_star))
 
-    def spot_solver(self, s):
-        """The separation solve, and the summits in contact one interval of the table at a time, in
-        `t = ln w*` from `w* = SPOT_FLOOR · (z_top − d)` (the summits below carry 1e-15 of a family's load)."""
-        table = self._table(s)
-        solve = self._separation_solver(table)
-
-        def one(F_star) -> SpotState:
-            state = solve(F_star)
-            z = table.heights * table.span  # in √A_a from the table's lowest point
-            d = state.separation * table.span
-            phi = table.pdf / table.span
-            top = z[-1] - d
-            low = jnp.maximum(z[:-1] - d, SPOT_FLOOR * top)
-            high = jnp.maximum(z[1:] - d, SPOT_FLOOR * top)
-            slope = (phi[1:] - phi[:-1]) / (z[1:] - z[:-1])
-            count = SummitCount(table.log_eta, d, phi[:-1], slope, z[:-1])
-            log_root_R = jnp.full_like(low, 0.5 * table.log_R)
-            load = PowerLaw(log_root_R + math.log(4.0 / 3.0), jnp.full_like(low, 1.5))
-            stiffness = PowerLaw(log_root_R + math.log(2.0), jnp.full_like(low, 0.5))
-            spots = SpotFamilies.without_interaction(count, load, stiffness, jnp.log(low), jnp.log(high))
-            return SpotState(state.status, spots, state.stiffness, jnp.array(False))
+        def one(F_star) -> PointResult:
+            d, totals, status = solve(F_star)
+            stiffness = totals.unloading if unloading else totals.stiffness
+            response = JointResponse(totals.load, stiffness, jnp.sum(totals.area), jnp.array(False))
+            return PointResult(jnp.full_like(d, jnp.nan), response, status)
 
         return one
 
-    def _table(self, s) -> _Table:
-        """The statistics in the scene's units (lengths in √A_a), heights from the table's lowest
-        point in units of its span (u in [0, 1]: the root finder's tolerance is absolute in u), and
-        the PDF normalised over u."""
-        length = jnp.exp(s.log_length)
-        span = (self.heights[-1] - self.heights[0]) / length
-        heights = (self.heights - self.heights[0]) / (self.heights[-1] - self.heights[0])
-        pdf = self.pdf / jnp.sum(0.5 * (self.pdf[1:] + self.pdf[:-1]) * jnp.diff(heights))
-        log_eta, log_R = jnp.log(self.density) + 2.0 * s.log_length, jnp.log(self.radius) - s.log_length
-        return _Table(span, heights, pdf, log_eta, log_R)
+    def spot_solver(self, s):
+        """The separation solve, and the summits in contact one interval of the table and one band of
+        the summit law at a time, in `t = ln w*` from `w* = SPOT_FLOOR · (z_top − d)` (the summits below
+        carry 1e-15 of a family's load)."""
+        table = self._table(s)
+        solve = self._separation_solver(table)
+        bands = table.bands.in_units(-jnp.log(table.span))  # ω in √A_a
 
-    def _separation_solver(self, table: _Table):
-        """`F* ↦ Separated`: the flat's separation d (in u) that carries the load, and the totals
-        there, for the statistics of `_table`. J_n(d) = span^n Ĵ_n(u), Ĵ of the table's density in u."""
-        heights, pdf, log_span = table.heights, table.pdf, jnp.log(table.span)
-        log_load_scale = math.log(4.0 / 3.0) + table.log_eta + 0.5 * table.log_R + 1.5 * log_span
-        log_stiffness_scale = math.log(2.0) + table.log_eta + 0.5 * table.log_R + 0.5 * log_span
-        log_area_scale = math.log(math.pi) + table.log_eta + table.log_R + log_span
-        lowest, top = jnp.zeros_like(table.span), jnp.full_like(table.span, 1.0 - TOP_MARGIN)
-        highest_load = _log_load(lowest, log_load_scale, heights, pdf)
-        lowest_load = _log_load(top, log_load_scale, heights, pdf)
+        def one(F_star) -> SpotState:
+            d, totals, status = solve(F_star)
+            z, d = table.heights * table.span, d * table.span  # in √A_a from the table's lowest point
+            phi = table.pdf / table.span
+            top = z[-1] - d
+            lower, upper = bands.edges[:-1, None], bands.edges[1:, None]
+            clip = lambda w: jnp.minimum(jnp.clip(jnp.maximum(w, SPOT_FLOOR * top), lower, upper), top)  # noqa: E731
+            low, high = clip(z[:-1] - d), clip(z[1:] - d)  # (bands, intervals)
+            slope = (phi[1:] - phi[:-1]) / (z[1:] - z[:-1])
+            tile = lambda x: jnp.broadcast_to(x, low.shape).reshape(-1)  # noqa: E731
+            count = SummitCount(table.log_eta, d, tile(phi[:-1]), tile(slope), tile(z[:-1]))
+            per_band = lambda law: PowerLaw(tile(law.log_coeff[:, None]), tile(law.exponent[:, None]))  # noqa: E731
+            load, stiffness = per_band(bands.load), per_band(bands.unloading_stiffness())
+            spots = SpotFamilies.without_interaction(
+                count, load, stiffness, jnp.log(low).reshape(-1), jnp.log(high).reshape(-1)
+            )
+            return SpotState(status, spots, jnp.sum(totals.unloading), jnp.array(False))
 
-        def one(F_star) -> Separated:
+        return one
+
+    def _table(self, s) -> SummitTable:
+        log_R = jnp.log(self.radius) - s.log_length
+        bands = self.summits.bands(log_R, s.log_hardness, s.nu)
+        return summit_table(self.heights, self.pdf, self.density, log_R, bands, s.log_length)
+
+    def _separation_solver(self, table: SummitTable):
+        """`F* ↦ (d, BandTotals, status)`: the flat's separation d (in u) that carries the load, and
+        the totals there."""
+        # Below the lowest summit by 2/(π η R) every summit's area is at least 0.93 π R (z − d) (the
+        # smallest of the laws' areas per interference), so the interface has closed above it.
+        closed = 2.0 * jnp.exp(-LOG_PI - table.log_eta - table.log_R) / table.span
+        lowest, top = -closed, jnp.full_like(table.span, 1.0 - TOP_MARGIN)
+        highest_load, lowest_load = log_load(table, lowest), log_load(table, top)
+
+        def one(F_star):
             valid = jnp.isfinite(F_star) & (F_star > 0)
             target = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (target > lowest_load) & (target <= highest_load) & (F_star <= LINEAR_ELASTIC_LIMIT)
             target = jnp.where(valid & in_range, target, 0.5 * (lowest_load + highest_load))
             guess = -0.5 * (lowest + top)
-            args = (log_load_scale, heights, pdf, target)
-            y, converged = self.root_finder.find(_residual, guess, args, -top, -lowest, slope=_residual_slope)
-            d = -y
-            load = jnp.exp(_log_load(d, log_load_scale, heights, pdf))
-            stiffness = jnp.exp(log_stiffness_scale) * tail_integral(0.5, d, heights, pdf)
-            area = jnp.exp(log_area_scale) * tail_integral(1.0, d, heights, pdf)
-            in_range = in_range & (area < CLOSED_INTERFACE)
+            y, converged = self.root_finder.find(residual, guess, (table, target), -top, -lowest, slope=residual_slope)
+            totals = table.totals(-y)
+            in_range = in_range & (jnp.sum(totals.area) < CLOSED_INTERFACE)
             status = jnp.select(
                 [~valid, ~in_range, ~converged],
                 [Status.INVALID_LOAD, Status.LOAD_OUT_OF_RANGE, Status.NOT_CONVERGED],
                 Status.OK,
             ).astype(jnp.int32)
-            return Separated(d, load, stiffness, area, status)
+            return -y, totals, status
 
         return one
-
-
-class _Table(eqx.Module):
-    span: Float[Array, ""]
-    heights: Float[Array, " table"]
-    pdf: Float[Array, " table"]
-    log_eta: Float[Array, ""]
-    log_R: Float[Array, ""]
 
 
 def _check_concrete(model: MeasuredAsperities) -> None:

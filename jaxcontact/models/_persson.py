@@ -76,7 +76,8 @@ class Persson(AbstractContactModel):
     def kink_log_loads(self, s):
         return jnp.zeros((0,), jnp.result_type(s.D))
 
-    def point_solver(self, s):
+    def point_solver(self, s, unloading: bool = False):
+        del unloading  # elastic: unloading retraces loading
         if self.spectrum is None:
             log_w1, log_q_of_w = _power_law_band(s)
         else:

@@ -15,6 +15,7 @@ from ._in_service import AbstractStiffness, Loading, TangentialStick, Unloading,
 from ._interaction import AbstractInteraction, NoInteraction, PaperInteraction, SeriesInteraction, interaction_ratio
 from ._measured_spectrum import AbstractLongEnd, MeasuredSpectrum, PowerLawEnd, Rolloff
 from ._spot_stiffness import AbstractSpotStiffness, FamilyDerivative, Sneddon, hertz_stiffness
+from ._summit_law import AbstractSummitLaw, HertzSummits, KogutEtsionSummits, SummitBands
 
 __all__ = [
     "AbstractDistribution",
@@ -22,11 +23,14 @@ __all__ = [
     "AbstractLongEnd",
     "AbstractSpotStiffness",
     "AbstractStiffness",
+    "AbstractSummitLaw",
     "FamilyDerivative",
     "hertz_stiffness",
+    "HertzSummits",
     "interaction_ratio",
     "interference",
     "kogut_etsion_laws",
+    "KogutEtsionSummits",
     "Loading",
     "mindlin_ratio",
     "MajumdarBhushan",
@@ -41,6 +45,7 @@ __all__ = [
     "SeriesInteraction",
     "size_distribution",
     "Sneddon",
+    "SummitBands",
     "TangentialStick",
     "Unloading",
     "wang_komvopoulos_psi",

@@ -18,11 +18,15 @@ from ..numerics import PowerLaw
 
 REGIMES = ("e", "ep1", "ep2", "p")
 
-# Kogut–Etsion fits, Eqs. (8)–(11): a ∝ (ω/ω_c)^α, f ∝ (ω/ω_c)^β, so f ∝ a^(β/α).
-EP1_LOAD_EXPONENT = 1.425 / 1.136  # printed as 1.2544 in Eq. (12)
-EP2_LOAD_EXPONENT = 1.263 / 1.146  # printed as 1.1021 in Eq. (13)
-EP1_END = 0.93 * 6.0**1.136  # a_epc / a_c, Eq. (17): printed 7.1197
-EP2_END = 0.94 * 110.0**1.146  # a_pc / a_c, Eq. (18): printed 205.3827
+# Kogut–Etsion fits (J. Appl. Mech. 69, 657, 2002; the paper's Eqs. 8–11), one row per elastic–plastic
+# band of ω/ω_c: (its end, load factor, load exponent β, area factor, area exponent α), with
+# P/P_c = factor (ω/ω_c)^β and A/A_c = factor (ω/ω_c)^α; so f ∝ a^(β/α).
+KOGUT_ETSION_BANDS = ((6.0, 1.03, 1.425, 0.93, 1.136), (110.0, 1.40, 1.263, 0.94, 1.146))
+_EP1, _EP2 = KOGUT_ETSION_BANDS
+EP1_LOAD_EXPONENT = _EP1[2] / _EP1[4]  # printed as 1.2544 in Eq. (12)
+EP2_LOAD_EXPONENT = _EP2[2] / _EP2[4]  # printed as 1.1021 in Eq. (13)
+EP1_END = _EP1[3] * _EP1[0] ** _EP1[4]  # a_epc / a_c, Eq. (17): printed 7.1197
+EP2_END = _EP2[3] * _EP2[0] ** _EP2[4]  # a_pc / a_c, Eq. (18): printed 205.3827
 
 
 def hardness_coefficient(nu):
@@ -73,8 +77,8 @@ def regime_load_laws(D, log_G, log_hardness, kappa, log_a_c) -> PowerLaw:
     log_coeff = jnp.stack(
         [
             math.log(4.0 * math.sqrt(math.pi) / 3.0) + (D - 1.0) * log_G,  # Eq. (5), Hertz with MB interference
-            log_ep + math.log(1.03) - m1 * math.log(0.93) + (1.0 - m1) * log_a_c,  # Eq. (12)
-            log_ep + math.log(1.40) - m2 * math.log(0.94) + (1.0 - m2) * log_a_c,  # Eq. (13)
+            log_ep + math.log(_EP1[1]) - m1 * math.log(_EP1[3]) + (1.0 - m1) * log_a_c,  # Eq. (12)
+            log_ep + math.log(_EP2[1]) - m2 * math.log(_EP2[3]) + (1.0 - m2) * log_a_c,  # Eq. (13)
             jnp.broadcast_to(log_hardness, jnp.shape(log_a_c)),  # Eq. (19): f = H a
         ]
     ).astype(dtype)
