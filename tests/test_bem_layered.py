@@ -54,9 +54,10 @@ def test_a_stiff_layer_is_the_plain_bem(paraboloid):
     np.testing.assert_allclose(np.asarray(stiff.stiffness), np.asarray(plain.stiffness), rtol=1e-4)
 
 
-def dense_winkler(gap, load, k):
+def dense_winkler(gap, load, k, k_unloading=None):
     """The same contact by numpy: the free half-space's compliance as a dense matrix (the operator on
-    unit pressures), and an active-set iteration on `(C + I s/(E k)) x = Δ − g` with `Σ x` fixed."""
+    unit pressures), and an active-set iteration on `(C + I s/(E k)) x = Δ − g` with `Σ x` fixed; the
+    stiffness with the layer's `k_unloading` on the active set where given."""
     from jaxcontact.bem._operator import Compliance
 
     s = L / N
@@ -76,6 +77,8 @@ def dense_winkler(gap, load, k):
         if np.array_equal(new, active) and np.all(x >= 0):
             break
         active = new
+    if k_unloading is not None:
+        H = C + np.eye(N * N) * E / (s * k_unloading)
     inverse = np.linalg.inv(H[np.ix_(A, A)])
     return x.reshape(N, N) * E, approach * s, E * s * inverse.sum()
 
@@ -96,6 +99,52 @@ def test_the_stiffness_is_a_dense_numpy_solves(paraboloid, dense):
 
 def test_the_contact_is_partial(paraboloid):
     assert np.all((np.asarray(paraboloid.contact_fraction) > 0.1) & (np.asarray(paraboloid.contact_fraction) < 0.9))
+
+
+class ShakenDownWinkler(bem.AbstractLayer):
+    """A Winkler layer that unloads with another stiffness (a flattened roughness: stiffer)."""
+
+    stiffness: float
+    unloading: float
+
+    def closure(self, pressure):
+        return pressure / self.stiffness
+
+    def highest(self):
+        return jnp.inf
+
+    def unloads_as_it_loads(self):
+        return False
+
+    def unloading_compliance(self, pressure):
+        return jnp.full_like(pressure, 1.0 / self.unloading)
+
+
+def test_the_dynamic_stiffness_is_a_dense_numpy_solves_on_its_contact_set(paraboloid):
+    layer = ShakenDownWinkler(K_LAYER, 3 * K_LAYER)
+    solution = bem.solve_layered(PARABOLOID, L, E, LOADS, layer, substrate=bem.Free())
+    expected = [dense_winkler(PARABOLOID, F, K_LAYER, 3 * K_LAYER)[2] for F in LOADS]
+    np.testing.assert_allclose(np.asarray(solution.dynamic_stiffness), expected, rtol=1e-8)
+
+
+def test_a_layer_that_unloads_as_it_loads_has_its_loading_stiffness_in_service(paraboloid):
+    np.testing.assert_array_equal(np.asarray(paraboloid.dynamic_tilt_stiffness), np.asarray(paraboloid.tilt_stiffness))
+
+
+def test_a_flat_gap_on_a_plastic_summits_law_unloads_with_its_dynamic_stiffness():
+    """A measured-summit law with Kogut–Etsion summits, tabulated from `interface_law`: at a pressure of
+    the table the uniform contact unloads with A·k_n,dyn(p) of the law."""
+    heights = np.linspace(0.0, 2e-6, 201)
+    model = jc.MeasuredAsperities(
+        1e-4, 1e9, heights, np.exp(-0.5 * ((heights - 0.8e-6) / 0.3e-6) ** 2), summits=jc.KogutEtsionSummits()
+    )
+    scene = jc.Scene(jc.table1_scene().surface, jc.Material(E=E, nu=0.3, H=1e9), L * L, model=model)
+    law = jc.interface_law(scene, np.geomspace(1e5, 1e7, 5))
+    nodes = np.array([1, 3])
+    layer = bem.TabulatedLayer.from_law(law)
+    solution = bem.solve_layered(np.zeros((N, N)), L, E, np.asarray(law.pressure)[nodes] * L * L, layer)
+    expected = np.asarray(law.dynamic_stiffness)[nodes] * L * L
+    np.testing.assert_allclose(np.asarray(solution.dynamic_stiffness), expected, rtol=1e-10)
 
 
 def test_the_tilt_stiffness_is_the_moments_change_under_a_tilted_gap(paraboloid):
@@ -180,3 +229,16 @@ def test_a_point_pressed_beyond_the_layers_table_is_flagged():
     # A table to 1 MPa; the loads alone are 5 and 20 MPa over the map.
     solution = bem.solve_layered(PARABOLOID, L, E, LOADS, table_layer(5), substrate=bem.Free())
     assert np.all(np.asarray(solution.status) == jc.Status.LOAD_OUT_OF_RANGE)
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        ((TABLE_P[::-1], TABLE_P, TABLE_P), r"pressure must be positive and increasing"),
+        ((TABLE_P, TABLE_P, TABLE_P, -TABLE_P), r"unloading_stiffness positive \(Pa/m\)"),
+        ((TABLE_P, TABLE_P[:-1], TABLE_P), r"shapes \(9,\), \(8,\), \(9,\): give 1-D arrays of one length"),
+    ],
+)
+def test_a_bad_table_is_refused_by_name(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        bem.TabulatedLayer(*arguments)

@@ -13,7 +13,8 @@ Derivatives are exact implicit ones: one Newton correction from the converged st
 held, `(x, Δ) − J⁻¹ (R, Σx − F*)`, whose derivative is `−J⁻¹ ∂(R, Σx − F*)/∂θ` (the linear solve by
 `jax.lax.custom_linear_solve`). The normal stiffness is `dF/dΔ = E s 1ᵀH⁻¹1` on the loaded points; the
 tilt stiffnesses, `dM/dθ` at fixed load for a rotation about each in-plane axis through the map's
-centre, `E s (ξᵀH⁻¹ξ − (ξᵀH⁻¹1)²/1ᵀH⁻¹1)` with ξ the lever arm.
+centre, `E s (ξᵀH⁻¹ξ − (ξᵀH⁻¹1)²/1ᵀH⁻¹1)` with ξ the lever arm. On unloading the same, with the layer's
+unloading compliance in H (a plastically flattened roughness unloads stiffer than it loaded).
 """
 
 from __future__ import annotations
@@ -40,7 +41,11 @@ class LayeredSolution(eqx.Module):
     **Fields:** `loads` (N); `pressure` (Pa, loads × n × n); `approach` (m), the bodies' approach
     Δ (the layer's closure plus the elastic displacement plus the gap at a loaded point);
     `stiffness` (N/m), dF/dΔ; `tilt_stiffness` (N·m/rad, loads × 2), about the axes along the
-    rows and the columns through the map's centre; `contact_fraction`, the share of points that carry
+    rows and the columns through the map's centre; `dynamic_stiffness` and `dynamic_tilt_stiffness`,
+    the same on unloading from the state loading reached (each loaded point's layer with its
+    unloading stiffness `k_n,dyn`, the contact set held: a small vibration about the load once its
+    first cycle is past; equal to the loading ones for a layer that unloads as it loads);
+    `contact_fraction`, the share of points that carry
     pressure; `status` (0 = ok; `LOAD_OUT_OF_RANGE` where a point's pressure exceeds the layer's
     `highest`); `iterations` (Newton steps).
     """
@@ -50,6 +55,8 @@ class LayeredSolution(eqx.Module):
     approach: Float[Array, " loads"]
     stiffness: Float[Array, " loads"]
     tilt_stiffness: Float[Array, "loads 2"]
+    dynamic_stiffness: Float[Array, " loads"]
+    dynamic_tilt_stiffness: Float[Array, "loads 2"]
     contact_fraction: Float[Array, " loads"]
     status: Int[Array, " loads"]
     iterations: Int[Array, " loads"]
@@ -69,12 +76,14 @@ class _Grid(eqx.Module):
         closure = self.layer.closure(self.modulus * x)
         return self.compliance(x) + closure / self.spacing + self.gap - approach
 
-    def diagonal(self, x):
-        return self.layer.compliance(self.modulus * x) * self.modulus / self.spacing
+    def diagonal(self, x, unloading: bool = False):
+        compliance = self.layer.unloading_compliance if unloading else self.layer.compliance
+        return compliance(self.modulus * x) * self.modulus / self.spacing
 
-    def solver(self, x, loaded):
-        """`v ↦ H_LL⁻¹ v` on the loaded points `loaded` (the identity elsewhere)."""
-        d = self.diagonal(x)
+    def solver(self, x, loaded, unloading: bool = False):
+        """`v ↦ H_LL⁻¹ v` on the loaded points `loaded` (the identity elsewhere); with `unloading`, H
+        holds the layer's compliance on unloading."""
+        d = self.diagonal(x, unloading)
         own = self.compliance(jnp.zeros_like(x).at[0, 0].set(1.0))[0, 0]  # a pixel's own compliance
         jacobi = jnp.where(loaded, own + d, 1.0)
 
@@ -160,24 +169,33 @@ def _implicit(grid: _Grid, x_star, approach_star, loaded, total):
     return x_star - jnp.where(loaded, dx, 0.0), approach_star - da
 
 
+def _tangents(solve, loaded, dtype):
+    """K and the two tilt stiffnesses (units of E s) of the loaded points, `solve` being H⁻¹ there."""
+    n = loaded.shape[0]
+    lever = jnp.arange(n, dtype=dtype) - (n - 1) / 2
+    ones = jnp.where(loaded, 1.0, 0.0).astype(dtype)
+    y1 = solve(ones)
+    stiffness = jnp.sum(ones * y1)
+    tilts = []
+    for arm in (jnp.broadcast_to(lever[:, None], loaded.shape), jnp.broadcast_to(lever[None, :], loaded.shape)):
+        arm = jnp.where(loaded, arm, 0.0)
+        tilts.append(jnp.sum(arm * solve(arm)) - jnp.sum(arm * y1) ** 2 / stiffness)
+    return stiffness, jnp.stack(tilts)
+
+
 def layered_at(grid: _Grid, total, max_iterations: int):
-    """One load: the pressure (units of E), Δ/s, K and the tilt stiffnesses (units of E s), the loaded
-    set, the Newton steps and whether they converged."""
+    """One load: the pressure (units of E), Δ/s, K and the tilt stiffnesses on loading and on unloading
+    (units of E s), the loaded set, the Newton steps and whether they converged."""
     x_star, approach_star, loaded, iterations, converged = _newton(
         jax.tree.map(jax.lax.stop_gradient, grid), jax.lax.stop_gradient(total), max_iterations
     )
     x, approach = _implicit(grid, x_star, approach_star, loaded, total)
-    solve, _ = grid.solver(x, loaded)
-    n = x.shape[0]
-    lever = jnp.arange(n, dtype=x.dtype) - (n - 1) / 2
-    ones = jnp.where(loaded, 1.0, 0.0)
-    y1 = solve(ones)
-    stiffness = jnp.sum(ones * y1)
-    tilts = []
-    for arm in (jnp.broadcast_to(lever[:, None], x.shape), jnp.broadcast_to(lever[None, :], x.shape)):
-        arm = jnp.where(loaded, arm, 0.0)
-        tilts.append(jnp.sum(arm * solve(arm)) - jnp.sum(arm * y1) ** 2 / stiffness)
-    return x, approach, stiffness, jnp.stack(tilts), loaded, iterations, converged
+    loading = _tangents(grid.solver(x, loaded)[0], loaded, x.dtype)
+    if grid.layer.unloads_as_it_loads():
+        return x, approach, loading, loading, loaded, iterations, converged
+    # The contact set held: a small unloading opens no point and closes none.
+    unloading = _tangents(grid.solver(x, loaded, True)[0], loaded, x.dtype)
+    return x, approach, loading, unloading, loaded, iterations, converged
 
 
 @eqx.filter_jit
@@ -187,9 +205,9 @@ def _solve_layered(gap, size, modulus, loads, layer, substrate: AbstractSubstrat
     grid = _Grid(Compliance.build(n, substrate, gap.dtype), layer, gap / spacing, modulus, spacing, tolerance)
     usable = jnp.isfinite(loads) & (loads > 0)
     totals = jnp.where(usable, loads, modulus * size * size * 1e-4) / (modulus * spacing**2)
-    x, approach, K, tilt, loaded, iterations, converged = jax.vmap(lambda t: layered_at(grid, t, max_iterations))(
-        totals
-    )
+    x, approach, (K, tilt), (K_u, tilt_u), loaded, iterations, converged = jax.vmap(
+        lambda t: layered_at(grid, t, max_iterations)
+    )(totals)
     status = jnp.where(converged, Status.OK, Status.NOT_CONVERGED)
     # A point pressed beyond the layer's law: the answer would rest on an extrapolation.
     beyond = jnp.max(x, axis=(1, 2)) * modulus > layer.highest()
@@ -204,6 +222,8 @@ def _solve_layered(gap, size, modulus, loads, layer, substrate: AbstractSubstrat
         approach=nan(approach, spacing),
         stiffness=nan(K, modulus * spacing),
         tilt_stiffness=nan(tilt, modulus * spacing**3),
+        dynamic_stiffness=nan(K_u, modulus * spacing),
+        dynamic_tilt_stiffness=nan(tilt_u, modulus * spacing**3),
         contact_fraction=jnp.where(ok, fraction.astype(gap.dtype), jnp.nan),
         status=status.astype(jnp.int32),
         iterations=iterations.astype(jnp.int32),
