@@ -169,3 +169,8 @@ def test_the_brake_reuss_joint_with_plastic_summits_is_scipys():
     d = reference.separation(12250.0)
     expected = reference.summed(lambda w: 2 * E_star * math.sqrt(summit(w)[1] / math.pi), d)
     np.testing.assert_allclose(float(jc.dynamic_stiffness(scene, 12250.0).stiffness), expected, rtol=1e-7)
+
+
+def test_a_load_path_of_plastic_summits_is_refused_by_name():
+    with pytest.raises(ValueError, match="model = 'measured-asperities' has no load-path law"):
+        jc.solve_path(plastic_scene(), np.array([3.0, 30.0, 3.0]))

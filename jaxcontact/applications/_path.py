@@ -57,16 +57,17 @@ def solve_path(scene: Scene, path, *, nodes: int = 8) -> LoadPath:
     float fields and the loads) as `solve` and the BEM's `solve_path` do.
 
     **Raises:** `ValueError` for a path that is not 1-D or has a non-positive or non-finite load,
-    and for a model whose spots flow without a path law (xia2024, jzz2010).
+    and for a model whose spots flow without a path law (xia2024, jzz2010, measured-asperities with
+    KogutEtsionSummits()).
     """
     model = scene.model
     if jnp.ndim(path) != 1:
         raise InputError(f"path has shape {jnp.shape(path)}: give the loads (N) as a 1-D array in the order applied")
     if not isinstance(model, AbstractSweptModel) and not model.unloads_as_it_loads():
         raise InputError(
-            f"model = {model.name!r} has no load-path law (its spot population is not a set of spots that grow and "
-            "shrink, docs/in-service.md): solve_path takes an elastic model (gw, persson, measured-asperities) or "
-            "the boundary-element model (bem)"
+            f"model = {model.name!r} has no load-path law (its spots flow, and how they unload and reload along a "
+            "path is not built: docs/in-service.md): solve_path takes an elastic model (gw, persson, "
+            "measured-asperities with HertzSummits()) or the boundary-element model (bem)"
         )
     scene, loads = prepare(scene, path)
     loads = jnp.asarray(loads)
