@@ -44,13 +44,13 @@ class AbstractLayer(eqx.Module):
         """`dc/dp` (m/Pa) at `pressure`, elementwise (forward-mode)."""
         return jax.jvp(self.closure, (pressure,), (jnp.ones_like(pressure),))[1]
 
+    @abc.abstractmethod
     def unloads_as_it_loads(self) -> bool:
         """Whether the layer unloads along its loading curve (then `unloading_compliance` is `compliance`)."""
-        return True
 
+    @abc.abstractmethod
     def unloading_compliance(self, pressure):
         """The initial compliance `1/k_n,dyn` (m/Pa) on unloading from `pressure` reached by loading."""
-        return self.compliance(pressure)
 
 
 class WinklerLayer(AbstractLayer):
@@ -68,6 +68,12 @@ class WinklerLayer(AbstractLayer):
 
     def highest(self):
         return jnp.asarray(jnp.inf, self.stiffness.dtype)
+
+    def unloads_as_it_loads(self):
+        return True
+
+    def unloading_compliance(self, pressure):
+        return self.compliance(pressure)
 
 
 class TabulatedLayer(AbstractLayer):
