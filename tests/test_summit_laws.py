@@ -13,6 +13,7 @@ import pytest
 from test_measured_asperities import AREA, ETA, GAUSSIAN, HEIGHTS, JOINT, E, R, ScipyGW, scene_of
 
 import jaxcontact as jc
+from jaxcontact import bem
 from jaxcontact.numerics import x64
 
 NU = 0.3
@@ -66,12 +67,22 @@ def test_every_band_of_the_fits_carries_load(solved):
     assert np.all(shares > 1e-5), shares
 
 
-def test_the_interface_closure_is_the_change_of_scipys_separation(reference):
+@pytest.fixture(scope="module")
+def law():
+    return jc.interface_law(plastic_scene(), np.geomspace(*LOADS[[0, 2]], 21) / AREA)
+
+
+def test_the_interface_closure_is_the_change_of_scipys_separation(law, reference):
     """`jc.interface_law` integrates dp/k_n: the fits' jumps in K must add up to the flat's travel,
     by brentq on scipy's load (0.3 → 30 N)."""
-    law = jc.interface_law(plastic_scene(), np.geomspace(*LOADS[[0, 2]], 21) / AREA, in_service=False)
     expected = reference.separation(LOADS[0]) - reference.separation(LOADS[2])
     np.testing.assert_allclose(float(law.closure[-1] - law.closure[0]), expected, rtol=1e-6)
+
+
+def test_a_layer_from_the_law_unloads_with_its_dynamic_stiffness(law):
+    """`bem.TabulatedLayer.from_law` carries k_n,dyn (the two-scale contact's dynamic stiffness)."""
+    layer = bem.TabulatedLayer.from_law(law)
+    np.testing.assert_allclose(layer.unloading_compliance(law.pressure), 1 / law.dynamic_stiffness, rtol=1e-12)
 
 
 def test_the_loading_stiffness_is_central_differences_of_scipys_load(solved, reference):
