@@ -75,19 +75,24 @@ class SummitTable(eqx.Module):
         law = self.bands.load
         return jnp.exp(self.log_eta + law.log_coeff) * self._integral(law.exponent, d)
 
-    def totals(self, d) -> BandTotals:
-        """Every total per band with the flat at u = d (module docstring); stiffnesses in `E √A_a`."""
-        eta = jnp.exp(self.log_eta)
-        law, area = self.bands.load, self.bands.area
+    def stiffness(self, d) -> Float[Array, " bands"]:
+        """The loading stiffness `−dF*/dd*` per band (`E √A_a`), with the flat at u = d: each band's
+        smooth part and the summits crossing into it (module docstring)."""
+        law = self.bands.load
         smooth = law.exponent * jnp.exp(law.log_coeff) * self._integral(law.exponent - 1.0, d)
         inner = self.bands.edges[1:-1]
         finite = jnp.isfinite(inner)
         density = jnp.interp(jnp.where(finite, d + inner, 2.0), self.heights, self.pdf, left=0.0, right=0.0)
         crossing = jnp.concatenate([jnp.zeros_like(inner[:1]), self.bands.load_jumps() * density])
-        unloading = self.bands.unloading_stiffness()
+        return jnp.exp(self.log_eta) * (smooth + crossing) / self.span
+
+    def totals(self, d) -> BandTotals:
+        """Every total per band with the flat at u = d (module docstring); stiffnesses in `E √A_a`."""
+        eta = jnp.exp(self.log_eta)
+        unloading, area = self.bands.unloading_stiffness(), self.bands.area
         return BandTotals(
             load=self.load(d),
-            stiffness=eta * (smooth + crossing) / self.span,
+            stiffness=self.stiffness(d),
             unloading=eta * jnp.exp(unloading.log_coeff) * self._integral(unloading.exponent, d),
             area=eta * jnp.exp(area.log_coeff) * self._integral(area.exponent, d),
         )
@@ -117,5 +122,4 @@ def residual(y, args):
 
 def residual_slope(y, args):
     table, _ = args
-    totals = table.totals(-y)
-    return table.span * jnp.sum(totals.stiffness) / jnp.sum(totals.load)
+    return table.span * jnp.sum(table.stiffness(-y)) / jnp.sum(table.load(-y))
