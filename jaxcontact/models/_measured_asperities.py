@@ -174,7 +174,7 @@ class MeasuredAsperities(AbstractContactModel):
             target = jnp.log(jnp.where(valid, F_star, 1.0))
             in_range = (target > lowest_load) & (target <= highest_load) & (F_star <= LINEAR_ELASTIC_LIMIT)
             target = jnp.where(valid & in_range, target, 0.5 * (lowest_load + highest_load))
-            guess = -0.5 * (lowest + top)
+            guess = -0.5 * top  # mid-table: most loads put the flat among the summits
             y, converged = self.root_finder.find(residual, guess, (table, target), -top, -lowest, slope=residual_slope)
             totals = table.totals(-y)
             in_range = in_range & (jnp.sum(totals.area) < CLOSED_INTERFACE)
