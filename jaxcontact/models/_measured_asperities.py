@@ -140,13 +140,14 @@ class MeasuredAsperities(AbstractContactModel):
             z, d = table.heights * table.span, d * table.span  # in √A_a from the table's lowest point
             phi = table.pdf / table.span
             top = z[-1] - d
-            lower, upper = bands.edges[:-1, None], bands.edges[1:, None]
+            used = self.summits.bands_used  # the families of bands that hold no summit are left out
+            lower, upper = bands.edges[:used, None], bands.edges[1 : used + 1, None]
             clip = lambda w: jnp.minimum(jnp.clip(jnp.maximum(w, SPOT_FLOOR * top), lower, upper), top)  # noqa: E731
             low, high = clip(z[:-1] - d), clip(z[1:] - d)  # (bands, intervals)
             slope = (phi[1:] - phi[:-1]) / (z[1:] - z[:-1])
             tile = lambda x: jnp.broadcast_to(x, low.shape).reshape(-1)  # noqa: E731
             count = SummitCount(table.log_eta, d, tile(phi[:-1]), tile(slope), tile(z[:-1]))
-            per_band = lambda law: PowerLaw(tile(law.log_coeff[:, None]), tile(law.exponent[:, None]))  # noqa: E731
+            per_band = lambda law: PowerLaw(tile(law.log_coeff[:used, None]), tile(law.exponent[:used, None]))  # noqa: E731
             load, stiffness = per_band(bands.load), per_band(bands.unloading_stiffness())
             spots = SpotFamilies.without_interaction(
                 count, load, stiffness, jnp.log(low).reshape(-1), jnp.log(high).reshape(-1)

@@ -71,10 +71,12 @@ class AbstractSummitLaw(eqx.Module):
     """How one summit carries load (module docstring); a choice of `MeasuredAsperities`.
 
     **Class attributes:** `name` (scene files, reports), `elastic` (whether a summit unloads along
-    its loading curve)."""
+    its loading curve), `bands_used` (how many of the four bands, from the first, can hold summits;
+    the rest end at ∞)."""
 
     name: eqx.AbstractClassVar[str]
     elastic: eqx.AbstractClassVar[bool]
+    bands_used: eqx.AbstractClassVar[int]
 
     @abc.abstractmethod
     def bands(self, log_R, log_hardness, nu) -> SummitBands:
@@ -92,6 +94,7 @@ class HertzSummits(AbstractSummitLaw):
 
     name: ClassVar[str] = "hertz"
     elastic: ClassVar[bool] = True
+    bands_used: ClassVar[int] = 1
 
     def bands(self, log_R, log_hardness, nu):
         del log_hardness, nu
@@ -106,6 +109,7 @@ class KogutEtsionSummits(AbstractSummitLaw):
 
     name: ClassVar[str] = "kogut-etsion"
     elastic: ClassVar[bool] = False
+    bands_used: ClassVar[int] = 4
 
     def bands(self, log_R, log_hardness, nu):
         dtype = jnp.result_type(log_R, log_hardness, nu)
