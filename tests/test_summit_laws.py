@@ -189,3 +189,17 @@ def test_the_brake_reuss_joint_with_plastic_summits_is_scipys():
 def test_a_load_path_of_plastic_summits_is_refused_by_name():
     with pytest.raises(ValueError, match="model = 'measured-asperities' has no load-path law"):
         jc.solve_path(plastic_scene(), np.array([3.0, 30.0, 3.0]))
+
+
+def test_a_traced_bad_load_is_flagged_and_leaves_the_others_and_their_derivative(solved):
+    scene = plastic_scene()
+
+    @jax.jit
+    def solve(H):
+        solution = jc.solve(eqx.tree_at(lambda s: s.material.H, scene, H), jnp.array([3.0, jnp.nan]))
+        return solution.stiffness, solution.status
+
+    (values, status), (tangent, _) = jax.jvp(solve, (jnp.asarray(HARDNESS),), (jnp.asarray(1.0),))
+    assert int(status[1]) == jc.Status.INVALID_LOAD
+    np.testing.assert_allclose(float(values[0]), float(solved[0].stiffness[1]), rtol=1e-12)
+    assert np.isfinite(float(tangent[0])) and float(tangent[0]) != 0.0
