@@ -82,8 +82,8 @@ class TabulatedLayer(AbstractLayer):
     **Arguments:** `pressure` (Pa, increasing, positive), `closure` (m, increasing), `stiffness` (the
     loading tangent per unit area `k_n = dp/dc`, Pa/m, positive), and optionally `unloading_stiffness`
     (`k_n,dyn`, Pa/m, positive: the initial unloading tangent about each pressure reached by loading;
-    between the table's points its logarithm is linear in ln p, beyond them it is the end's value;
-    None for a layer that unloads as it loads). `from_law(law)` takes a `jaxcontact.InterfaceLaw`
+    between the table's points a cubic Hermite interpolant of its logarithm in ln p, beyond them the
+    end's value; None for a layer that unloads as it loads). `from_law(law)` takes a `jaxcontact.InterfaceLaw`
     (its points with status 0, and its `dynamic_stiffness` where the model has one: give pressures
     within the model's range, since under a trace every point is taken).
     """
@@ -122,6 +122,11 @@ class TabulatedLayer(AbstractLayer):
         if ok.sum() < 2:
             raise InputError("the interface law has fewer than 2 points with status 0: no layer to tabulate")
         unloading = np.asarray(law.unloading_status)[ok] == 0
+        if not unloading.all() and unloading.any():
+            raise InputError(
+                "the interface law's dynamic_stiffness is not ok at every point where its closure is: give "
+                "pressures where both are, or interface_law(..., in_service=False) for a layer without unloading"
+            )
         dynamic = law.dynamic_stiffness[ok] if unloading.all() else None
         concrete = not any(isinstance(x, jax.core.Tracer) for x in (law.dynamic_stiffness, law.normal_stiffness))
         if (
@@ -130,11 +135,6 @@ class TabulatedLayer(AbstractLayer):
             and np.array_equal(np.asarray(dynamic), np.asarray(law.normal_stiffness[ok]))
         ):
             dynamic = None  # a model that unloads as it loads
-        if not unloading.all() and unloading.any():
-            raise InputError(
-                "the interface law's dynamic_stiffness is not ok at every point where its closure is: give "
-                "pressures where both are, or interface_law(..., in_service=False) for a layer without unloading"
-            )
         return cls(law.pressure[ok], law.closure[ok], law.normal_stiffness[ok], dynamic)
 
     def closure(self, pressure):

@@ -161,8 +161,14 @@ class AbstractSweptModel(AbstractContactModel):
         memory of the path (`jaxcontact.solve_path`)."""
 
     @typing.final
+    def loads_solver(self, s: DimensionlessScene, unloading: bool = False):
+        """`F*` (1-D) ↦ the `PointResult`s of all loads: the sweep, or with `unloading` (for a model
+        that does not unload as it loads) the initial unloading tangents (`unloading_solver`)."""
+        return self.unloading_solver(s) if unloading and not self.unloads_as_it_loads() else self.sweep_solver(s)
+
+    @typing.final
     def point_solver(self, s, unloading: bool = False):
-        sweep = self.unloading_solver(s) if unloading and not self.unloads_as_it_loads() else self.sweep_solver(s)
+        sweep = self.loads_solver(s, unloading)
         return lambda F_star: jax.tree.map(lambda x: x[0], sweep(F_star[None]))
 
     @typing.final

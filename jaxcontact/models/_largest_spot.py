@@ -32,7 +32,7 @@ def curve_solver(
     mapped over the loads (`jax.vmap`). With `unloading`, each result's stiffness is the initial
     unloading tangent from the state its load reaches on loading."""
     if isinstance(model, AbstractSweptModel):
-        return model.unloading_solver(s) if unloading and not model.unloads_as_it_loads() else model.sweep_solver(s)
+        return model.loads_solver(s, unloading)
     return jax.vmap(model.point_solver(s, unloading=unloading))
 
 
