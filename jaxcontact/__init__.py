@@ -35,6 +35,7 @@ from .models import (
     AbstractJoint,
     AbstractLargestSpotModel,
     AbstractLoadPieces,
+    AbstractPathModel,
     AbstractSweptModel,
     GaussianSummitCount,
     GenericLoadPieces,
@@ -197,6 +198,7 @@ __all__ = [
     # What a new model is built from
     "AbstractContactModel",
     "AbstractLargestSpotModel",
+    "AbstractPathModel",
     "AbstractSweptModel",
     "AbstractJoint",
     "AbstractLoadPieces",

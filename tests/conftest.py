@@ -109,6 +109,7 @@ LONGEST_FIRST = (
     "test_in_service.py",
     "test_measured_asperities.py",
     "test_summit_laws.py",
+    "test_summit_path.py",
     "test_inference.py",
     "test_comparator_fuzz.py",
     "test_pole_integral.py",

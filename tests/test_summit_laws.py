@@ -186,11 +186,6 @@ def test_the_brake_reuss_joint_with_plastic_summits_is_scipys():
     np.testing.assert_allclose(float(jc.dynamic_stiffness(scene, 12250.0).stiffness), expected, rtol=1e-7)
 
 
-def test_a_load_path_of_plastic_summits_is_refused_by_name():
-    with pytest.raises(ValueError, match="model = 'measured-asperities' has no load-path law"):
-        jc.solve_path(plastic_scene(), np.array([3.0, 30.0, 3.0]))
-
-
 def test_a_traced_bad_load_is_flagged_and_leaves_the_others_and_their_derivative(solved):
     scene = plastic_scene()
 

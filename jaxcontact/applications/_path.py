@@ -2,10 +2,11 @@
 
 An elastic model (GW, Persson, measured Hertz summits) has no memory: every point of a path is the
 loading solve at its load, and the approach is the load–approach curve read from the path's first
-point. A swept model (the boundary-element model) follows the path with its own memory, the
-plastic flattening of its capped surface (`AbstractSweptModel.path_solver`). A model whose spots
-flow but that has no path law (the seed model, JZZ: their spot population is not a set of spots
-that grow and shrink, docs/in-service.md) is refused.
+point. A model with a memory of the path (`AbstractPathModel.path_solver`) follows it: the
+boundary-element model the plastic flattening of its capped surface, `MeasuredAsperities` each
+summit's deepest interference. A model whose spots flow but that has no path law (the seed model,
+JZZ: their spot population is not a set of spots that grow and shrink, docs/in-service.md) is
+refused.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from jaxtyping import Array, Float, Int
 
 from ..core import Outputs, Scene, prepare, solve
 from ..core._loadcontrol import within_domain
-from ..models import AbstractSweptModel
+from ..models import AbstractPathModel
 from ..numerics import InputError
 from ..quantities import Scales, Status, branches, nondimensionalise
 from ._approach_sum import approach_quadrature
@@ -48,8 +49,8 @@ def solve_path(scene: Scene, path, *, nodes: int = 8) -> LoadPath:
 
     **Arguments:**
 
-    - `scene`: the joint; its model is elastic (`unloads_as_it_loads()`) or swept (the BEM model,
-      capped with `plastic=True`).
+    - `scene`: the joint; its model is elastic (`unloads_as_it_loads()`) or remembers the path
+      (`AbstractPathModel`: the BEM model, capped with `plastic=True`; `MeasuredAsperities`).
     - `path`: total normal loads, N, a 1-D array in the order applied.
     - `nodes`: Gauss–Legendre nodes per piece of an elastic model's approach (`approach_quadrature`).
 
@@ -57,23 +58,22 @@ def solve_path(scene: Scene, path, *, nodes: int = 8) -> LoadPath:
     float fields and the loads) as `solve` and the BEM's `solve_path` do.
 
     **Raises:** `ValueError` for a path that is not 1-D or has a non-positive or non-finite load,
-    and for a model whose spots flow without a path law (xia2024, jzz2010, measured-asperities with
-    KogutEtsionSummits()).
+    and for a model whose spots flow without a path law (xia2024, jzz2010).
     """
     model = scene.model
     if jnp.ndim(path) != 1:
         raise InputError(f"path has shape {jnp.shape(path)}: give the loads (N) as a 1-D array in the order applied")
-    if not isinstance(model, AbstractSweptModel) and not model.unloads_as_it_loads():
+    if not isinstance(model, AbstractPathModel) and not model.unloads_as_it_loads():
         raise InputError(
             f"model = {model.name!r} has no load-path law (its spots flow, and how they unload and reload along a "
-            "path is not built: docs/in-service.md): solve_path takes an elastic model (gw, persson, "
-            "measured-asperities with HertzSummits()) or the boundary-element model (bem)"
+            "path is not built: docs/in-service.md): solve_path takes an elastic model (gw, persson), "
+            "measured-asperities or the boundary-element model (bem)"
         )
     scene, loads = prepare(scene, path)
     loads = jnp.asarray(loads)
     kinds = branches(loads)
-    if isinstance(model, AbstractSweptModel):
-        return _swept(scene, loads, kinds)
+    if isinstance(model, AbstractPathModel):
+        return _followed(scene, loads, kinds)
     loading = solve(scene, loads, outputs=_LOADING)
     curve = approach_quadrature(scene, loads, loads[0], nodes=nodes)
     status = jnp.where(loading.status == Status.OK, curve.status, loading.status)
@@ -92,7 +92,7 @@ def solve_path(scene: Scene, path, *, nodes: int = 8) -> LoadPath:
 
 
 @eqx.filter_jit
-def _swept(scene: Scene, loads, kinds) -> LoadPath:
+def _followed(scene: Scene, loads, kinds) -> LoadPath:
     guarded, in_domain = within_domain(scene)
     scales = Scales.of(guarded)
     points = guarded.model.path_solver(nondimensionalise(guarded))(loads / scales.load)

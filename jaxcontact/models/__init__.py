@@ -5,6 +5,7 @@ objects. A new model is one file here plus one line in `_registry.py` (or `regis
 from ._base import (
     CLOSED_INTERFACE,
     AbstractContactModel,
+    AbstractPathModel,
     AbstractSweptModel,
     JointResponse,
     PathPoints,
@@ -25,6 +26,7 @@ __all__ = [
     "AbstractContactModel",
     "AbstractJoint",
     "AbstractLargestSpotModel",
+    "AbstractPathModel",
     "AbstractSweptModel",
     "CLOSED_INTERFACE",
     "curve_solver",

@@ -146,7 +146,18 @@ class PathPoints(eqx.Module):
     residual_star: Float[Array, ""]
 
 
-class AbstractSweptModel(AbstractContactModel):
+class AbstractPathModel(AbstractContactModel):
+    """A model that remembers the load path (`jaxcontact.solve_path`): a capped surface's plastic
+    flattening (the boundary-element model), each summit's deepest interference
+    (`MeasuredAsperities`)."""
+
+    @abc.abstractmethod
+    def path_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " points"]], PathPoints]:
+        """`F*` along a load path (1-D, in the order applied) ↦ its `PathPoints`, with the model's
+        memory of the path."""
+
+
+class AbstractSweptModel(AbstractPathModel):
     """A model whose loads are cheaper solved together, in one sweep, each from the last one's
     solution (the boundary-element contact): it writes `sweep_solver`; `point_solver` is a sweep
     of one load."""
@@ -154,11 +165,6 @@ class AbstractSweptModel(AbstractContactModel):
     @abc.abstractmethod
     def sweep_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " loads"]], PointResult]:
         """`F*` (1-D) ↦ the `PointResult`s of all loads (a leading loads axis)."""
-
-    @abc.abstractmethod
-    def path_solver(self, s: DimensionlessScene) -> Callable[[Float[Array, " points"]], PathPoints]:
-        """`F*` along a load path (1-D, in the order applied) ↦ its `PathPoints`, with the model's
-        memory of the path (`jaxcontact.solve_path`)."""
 
     @typing.final
     def loads_solver(self, s: DimensionlessScene, unloading: bool = False):

@@ -30,8 +30,9 @@ from jaxtyping import Array, Float
 from ..numerics import InputError, NewtonBisection, PowerLaw, check_instance
 from ..physics._summit_law import SUMMIT_REGIMES, AbstractSummitLaw, HertzSummits
 from ..quantities import Status
-from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractContactModel, JointResponse, PointResult
+from ._base import CLOSED_INTERFACE, LINEAR_ELASTIC_LIMIT, AbstractPathModel, JointResponse, PointResult
 from ._spots import SpotFamilies, SpotState, SummitCount
+from ._summit_path import follow
 from ._summit_table import SummitTable, log_load, residual, residual_slope, summit_table
 
 LOG_PI = math.log(math.pi)
@@ -43,7 +44,7 @@ TOP_MARGIN = 1e-6
 SPOT_FLOOR = 1e-6
 
 
-class MeasuredAsperities(AbstractContactModel):
+class MeasuredAsperities(AbstractPathModel):
     """Greenwood–Williamson with measured statistics (module docstring); the surface's D, G and l_min
     are not used. Four regimes, e, ep1, ep2 and p, the bands of the summit law (all "e" for Hertz
     summits; a band's loading stiffness includes the summits crossing into it where the Kogut–Etsion
@@ -126,6 +127,14 @@ class MeasuredAsperities(AbstractContactModel):
             return PointResult(jnp.full_like(d, jnp.nan), response, status)
 
         return one
+
+    def path_solver(self, s):
+        """`F*` along a load path ↦ its `PathPoints`: each summit remembers its deepest interference and
+        unloads and reloads below it along Hertz's law about its residual interference (`_summit_path`);
+        Hertz summits retrace their loading curve."""
+        table = self._table(s)
+        solve = self._separation_solver(table)
+        return lambda F_star: follow(table, solve, self.root_finder, self.summits.bands_used, F_star)
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact one interval of the table and one band of

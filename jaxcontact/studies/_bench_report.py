@@ -62,6 +62,7 @@ def format_results(r: dict) -> str:
         *_interface_lines(r.get("interface"), verdict),
         *_cycle_lines(r.get("tangential_cycle"), verdict),
         *_path_lines(r.get("bem_path"), verdict),
+        *_against(r.get("summit_path"), verdict, SUMMIT_PATH, ("path", "solve", "over_solve"), 3.0, "ms"),
         *_spectrum_lines(r.get("measured_spectrum"), verdict),
         "",
         "what each effect costs (20000 loads):",
@@ -115,6 +116,9 @@ def _against(timing: dict | None, verdict, what: tuple[str, str], names: tuple[s
         f"{what[0]} (median / best): {pair(call)}; {what[1]} {pair(reference)}; "
         f"{ratio:.2f}x (target <= {target:g}x: {verdict(ratio <= target)})"
     ]
+
+
+SUMMIT_PATH = ("measured Kogut–Etsion summits, 200-point load–unload–reload path", "solve of the same loads")
 
 
 def _path_lines(timing: dict | None, verdict) -> list[str]:
