@@ -6,7 +6,7 @@ flat's lowest position so far. Raised by `Δ = d − d_m ≥ 0`, it unloads, and
 along Hertz's law about a larger radius and a residual interference `ω_res = ω_m − g`: Etsion,
 Kligerman & Kadin's finding that an unloaded elastic–plastic sphere is a sphere of larger radius
 (IJSS 42, 3716, 2005), in the form that keeps the load `P_m` and the contact radius `a_m` at the
-top (Jackson et al., J. Appl. Mech. 77, 021006, 2010):
+top (as Jackson, Green & Marghitu take it for impacts, Nonlinear Dyn. 60, 217, 2010):
 
     P = P_m (1 − Δ/g)^(3/2),   A = A_m (1 − Δ/g),   g = 3 P_m / (4 E a_m),
 
@@ -16,8 +16,8 @@ so that the initial unloading stiffness is Sneddon's `1.5 P_m/g = 2E a_m` (the `
 Just past `ω_c` the Kogut–Etsion fits' jump in load (+3 %) and area (−7 %) makes `g` up to 6.8 %
 larger than `ω_m` (`ω_res < 0`, for `ω_m < 1.6 ω_c`).
 
-The totals have no closed form (`g` is not a power law of `z − d`). Per band of the summit law and
-interval of the PDF, `ω_m` runs over the summits still in contact (`g(ω_m) > Δ`, `g` increasing in
+The totals have no closed form (`g` is not a power law of `z − d`). On each piece between the
+table's points and the bands' edges, `ω_m` runs over the summits still in contact (`g(ω_m) > Δ`, `g` increasing in
 each band) by Gauss–Legendre in `t`, `ω_m = lo + (hi − lo) t²`: the tangent's factor
 `(1 − Δ/g)^(1/2)` vanishes as `√(ω_m − ω*)` where the last summits let go, and is smooth in t.
 """

@@ -29,8 +29,9 @@ from scipy import optimize
 
 from ..core import Outputs, Scene, solve
 from ..quantities import Scales
+from ._bench_paths import bem_path, summit_path
 from ._bench_user import curve_as_users_call_it
-from ._curve import _arrays, _baseline, best_of, curve, stats
+from ._curve import _arrays, _baseline, best_of, called, curve
 from ._scipy_baseline import solve_curve
 
 TARGETS = {
@@ -177,17 +178,6 @@ def compilation_cache() -> dict:
 INTERFACE_MODELS = ("xia2024", "jzz2010", "gw", "persson")
 
 
-def _called(fn, repeats: int = 15) -> dict:
-    """`stats` of `repeats` calls of `fn` after one that compiles it."""
-    jax.block_until_ready(fn())
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        jax.block_until_ready(fn())
-        times.append(time.perf_counter() - t)
-    return stats(times)
-
-
 def interface(scene: Scene, pressures: int = 1000) -> dict:
     """`jc.interface_law(scene, pressures)` as users call it, over four decades of nominal pressure
     from F* = 1e-9, per analytic model: median and best of 15 calls after compilation (s), and the
@@ -199,8 +189,8 @@ def interface(scene: Scene, pressures: int = 1000) -> dict:
     for name in INTERFACE_MODELS:
         variant = scene.with_model(name)
         p = np.geomspace(1e-9, 1e-5, pressures) * float(variant.material.E)
-        law = _called(lambda: interface_law(variant, p).tangential_stiffness)
-        curve_only = _called(lambda: solve(variant, p * float(variant.area)).stiffness)
+        law = called(lambda: interface_law(variant, p).tangential_stiffness)
+        curve_only = called(lambda: solve(variant, p * float(variant.area)).stiffness)
         out[name] = {
             "median_s": law["median_s"],
             "best_s": law["best_s"],
@@ -216,49 +206,7 @@ def tangential_cycle(scene: Scene, amplitudes: int = 50) -> dict:
 
     preload = 1e-6 * float(Scales.of(scene).load)
     u = jnp.geomspace(1e-13, 1e-5, amplitudes)
-    return _called(lambda: cycle(scene, preload, u, 0.3).dissipation)
-
-
-def bem_path(scene: Scene, grid: int = 256) -> dict:
-    """`bem.solve_path` of a 10-point load–unload path (five loads up to F* = 3e-3, five down) on a
-    capped rough map (D = 1.5, rms slope ~0.15, H = 0.015 E*, `grid`²), as users call it, against
-    `bem.solve` of the same ten loads: median and best of 5 calls after compilation (s)."""
-    del scene  # the map is the BEM's own
-    from .. import bem
-
-    size = 100e-6
-    modulus = 210e9 / (1 - 0.3**2)
-    heights = jnp.asarray(bem.realisation(1.5, 1e-9, size / 64, size, grid, 0).heights())
-    up = np.geomspace(3e-4, 3e-3, 5) * modulus * size * size
-    path = jnp.asarray(np.concatenate([up, up[::-1][1:] * 0.9, [0.5 * up[0]]]))
-    hardness = 0.015 * modulus
-    along = _called(lambda: bem.solve_path(heights, size, modulus, path, hardness=hardness).stiffness, repeats=5)
-    apart = _called(lambda: bem.solve(heights, size, modulus, path, hardness=hardness).stiffness, repeats=5)
-    return {"path": along, "solve": apart, "over_solve": along["median_s"] / apart["median_s"]}
-
-
-def summit_path(scene: Scene, points: int = 200) -> dict:
-    """`jc.solve_path` of measured elastic–plastic summits (R = 0.1 mm, 1e9 per m², Gaussian heights
-    of 0.3 µm rms on a 201-point table, H = 1 GPa, E = 100 GPa, 1 cm²) along a `points`-point path
-    (load to 30 N, unload to 1 N, reload to 60 N), against `solve` of the same loads: median and best
-    of 15 calls after compilation (s)."""
-    from ..applications import solve_path
-    from ..models import MeasuredAsperities
-    from ..physics import KogutEtsionSummits
-    from ..quantities import Material
-
-    z = np.linspace(0.0, 2e-6, 201)
-    model = MeasuredAsperities(1e-4, 1e9, z, np.exp(-0.5 * ((z - 0.8e-6) / 0.3e-6) ** 2), KogutEtsionSummits())
-    joint = Scene(scene.surface, Material(E=1e11, nu=0.3, H=1e9), 1e-4, model=model)
-    third = points // 3
-    path = jnp.asarray(
-        np.concatenate(
-            [np.geomspace(0.3, 30, third), np.geomspace(30, 1, third)[1:], np.geomspace(1, 60, points - 2 * third + 1)]
-        )
-    )
-    along = _called(lambda: solve_path(joint, path).approach)
-    apart = _called(lambda: solve(joint, path).stiffness)
-    return {"path": along, "solve": apart, "over_solve": along["median_s"] / apart["median_s"]}
+    return called(lambda: cycle(scene, preload, u, 0.3).dissipation)
 
 
 def measured_spectrum(scene: Scene, bins: int = 200, loads: int = 100) -> dict:
@@ -274,8 +222,8 @@ def measured_spectrum(scene: Scene, bins: int = 200, loads: int = 100) -> dict:
     q = np.geomspace(2 * np.pi / side, 2 * np.pi / float(scene.surface.l_min), bins)
     table = MeasuredSpectrum(q, np.exp(float(log_areal_prefactor(D, np.log(G)))) * q ** -(6 - 2 * D))
     F = np.geomspace(1e-8, 1e-3, loads) * float(scene.material.E) * float(scene.area)
-    closed = _called(lambda: solve(scene.with_model(Persson()), F).stiffness)
-    tabulated = _called(lambda: solve(scene.with_model(Persson(spectrum=table)), F).stiffness)
+    closed = called(lambda: solve(scene.with_model(Persson()), F).stiffness)
+    tabulated = called(lambda: solve(scene.with_model(Persson(spectrum=table)), F).stiffness)
     return {"closed": closed, "table": tabulated, "over_closed": tabulated["median_s"] / closed["median_s"]}
 
 

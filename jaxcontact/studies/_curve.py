@@ -56,6 +56,17 @@ def stats(times) -> dict:
     return {"median_s": float(np.median(times)), "p90_s": float(np.percentile(times, 90)), "best_s": float(times.min())}
 
 
+def called(fn, repeats: int = 15) -> dict:
+    """`stats` of `repeats` calls of `fn` after one that compiles it."""
+    jax.block_until_ready(fn())
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(fn())
+        times.append(time.perf_counter() - t)
+    return stats(times)
+
+
 def curve(scene: Scene, rounds: int = 10, repeats: int = 30, only: tuple[str, ...] | None = None) -> dict:
     """200 loads over F* = 1e-7 … 1e-4: scipy against jaxcontact's calls, interleaved.
 
