@@ -102,6 +102,7 @@ LONGEST_FIRST = (
     "test_bem_path.py",
     "test_bem_layered.py",
     "test_bem_tangential.py",
+    "test_bem_slip.py",
     "test_load_path.py",
     "test_measured_spectrum.py",
     "test_spectrum_validation.py",

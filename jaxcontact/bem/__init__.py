@@ -18,6 +18,7 @@ from ._layered import LayeredSolution, solve_layered
 from ._model import BEM
 from ._operator import SUBSTRATES, AbstractSubstrate, Free, Periodic
 from ._path import PathSolution, solve_path
+from ._slip import FrictionLoops, friction_loops
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._study import REFERENCES, ReferenceCurves, jax_curve, realisation, reference_curves
 from ._surfaces import check_grid, coarsened, synthesised_surface
@@ -32,6 +33,7 @@ __all__ = [
     "CacheWarning",
     "ContactSolution",
     "Free",
+    "FrictionLoops",
     "LayeredSolution",
     "Periodic",
     "PathSolution",
@@ -42,6 +44,7 @@ __all__ = [
     "check_grid",
     "coarsened",
     "default_directory",
+    "friction_loops",
     "jax_curve",
     "realisation",
     "reference_curves",

@@ -102,7 +102,7 @@ def contact_cg(
     compliance: Compliance,
     heights: Float[Array, "n n"],
     total: Float[Array, ""],
-    hardness: Float[Array, ""],
+    hardness: Float[Array, ""] | Float[Array, "n n"],
     initial: Float[Array, "n n"],
     tolerance: float,
     max_iterations: int,
@@ -119,6 +119,13 @@ def contact_cg(
     """
 
     passes = _LOAD_PASSES if capped else 1
+    # A cap per point (the tangential problem's μp, `_slip`): a point whose cap is 0 stays at 0, and
+    # the bearing-area mixing, which spreads the load over the smallest gaps at one cap, does not apply.
+    per_point = jnp.ndim(hardness) > 0
+    mixes = capped and not per_point
+
+    def movable(x):
+        return (x & (hardness > 0)) if per_point else x
 
     def search(gap, moving):
         """The gap on the points that move, preconditioned (their load held: mean zero on them)."""
@@ -129,7 +136,7 @@ def contact_cg(
 
     def residual_of(gap, pressure):
         free = (pressure > 0) & (pressure < hardness)
-        at_zero, at_cap = pressure <= 0, pressure >= hardness
+        at_zero, at_cap = movable(pressure <= 0), movable(pressure >= hardness)
         return jnp.max(jnp.where(free, jnp.abs(gap), jnp.where(at_zero, -gap, jnp.where(at_cap, gap, 0.0))).reshape(-1))
 
     def cg_step(state: ContactState, gap, free, norm):
@@ -137,7 +144,7 @@ def contact_cg(
         # Bound points whose gap says they should move inward: penetration where p = 0, separation
         # where p = H. They join the free set; the conjugacy restarts. Preconditioned, they join the
         # search set at once, so that the line search weighs how they press on each other.
-        wrong = ((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0))
+        wrong = movable(((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0)))
         any_wrong = jnp.any(wrong)
         moving = free | wrong if preconditioned else free
         restart = state.restart | (any_wrong if preconditioned else False) | (state.previous_norm <= 0)
@@ -159,7 +166,7 @@ def contact_cg(
         converged = residual <= tolerance
         norm = _masked_sum(free, gap * search(gap, free))
         in_contact = jnp.sum(p > 0, dtype=p.dtype)
-        if capped:
+        if mixes:
             mixing = (state.mix_steps > 0) | (
                 (in_contact > 0) & (jnp.sum(free, dtype=p.dtype) <= _MIN_FREE_SHARE * in_contact)
             )
