@@ -132,9 +132,7 @@ def _loops(heights, size, modulus, load, mu, forces, nu, hardness, substrate, no
     def one(carry, level):
         ratio = level / jnp.where(carry[1] > 0, carry[1], 1.0)
         start = jnp.where(carry[1] > 0, carry[0] * ratio, limit * (level / jnp.sum(limit)))
-        state = contact_cg(
-            problem.tangential, jnp.zeros_like(pressure), level, limit, start, tolerance, max_iterations
-        )
+        state = contact_cg(problem.tangential, jnp.zeros_like(pressure), level, limit, start, tolerance, max_iterations)
         sticking = (state.pressure > 0) & (state.pressure < limit)
         share = jnp.sum(sticking, dtype=pressure.dtype) / jnp.maximum(jnp.sum(pressure > 0, dtype=pressure.dtype), 1.0)
         return (state.pressure, level), (state.offset, share, state.converged, state.iterations)

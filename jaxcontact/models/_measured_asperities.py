@@ -134,7 +134,9 @@ class MeasuredAsperities(AbstractPathModel):
         Hertz summits retrace their loading curve."""
         table = self._table(s)
         solve = self._separation_solver(table)
-        return lambda F_star: follow(table, solve, self.root_finder, self.summits.bands_used, F_star)
+        return lambda F_star: follow(
+            table, solve, self.root_finder, self.summits.bands_used, self.summits.elastic, F_star
+        )
 
     def spot_solver(self, s):
         """The separation solve, and the summits in contact one interval of the table and one band of

@@ -113,13 +113,17 @@ def full_recovery(table: SummitTable, d_m, used: int):
     return jnp.max(jnp.where(reached, g(jnp.log(highest)), 0.0))
 
 
-def follow(table: SummitTable, solve, root_finder, used: int, F_star) -> PathPoints:
+def follow(table: SummitTable, solve, root_finder, used: int, elastic: bool, F_star) -> PathPoints:
     """The summits along a load path `F_star` (1-D, in the order applied): `solve` is the loading
     solve of one load, `F* ↦ (d, BandTotals, status)`, and `root_finder` solves each point below the
-    path's running maximum for its Δ (module docstring)."""
+    path's running maximum for its Δ (module docstring). `elastic` summits (Hertz) retrace their
+    loading curve: every point is then the loading solve at its load."""
     peak = jax.lax.cummax(F_star)
+    if elastic:
+        d, totals, status = jax.vmap(solve)(F_star)
+        stiffness = jnp.sum(totals.stiffness, axis=-1)
+        return _points(table, d, stiffness, stiffness, jnp.sum(totals.area, axis=-1), status, jnp.zeros_like(d[0]))
     d_m, totals, status = jax.vmap(solve)(peak)
-    kinds = branches(F_star)
     below = F_star < peak
     find = functools.partial(_residual, used=used)
     find_slope = functools.partial(_residual_slope, used=used)
@@ -135,17 +139,26 @@ def follow(table: SummitTable, solve, root_finder, used: int, F_star) -> PathPoi
     delta = jnp.where(below, delta, 0.0)
     state = jax.vmap(lambda d, x: unloaded(table, d, x, used))(d_m, delta)
     status = jnp.where(below & ~converged & (status == Status.OK), Status.NOT_CONVERGED, status)
-    ok = status == Status.OK
-    loading = kinds == Branch.LOADING
-    nan = lambda x: jnp.where(ok, x, jnp.nan)  # noqa: E731
-    d = d_m + delta
+    # At the top (Δ = 0) the unloading tangent is Sneddon's sum, in closed form.
+    unloading = jnp.where(below, state.stiffness, jnp.sum(totals.unloading, axis=-1))
+    loading = branches(F_star) == Branch.LOADING
+    stiffness = jnp.where(loading, jnp.sum(totals.stiffness, axis=-1), unloading)
+    area = jnp.where(below, state.area, jnp.sum(totals.area, axis=-1))
     deepest = d_m[-1]  # the path's overall maximum
     residual = table.heights[-1] - deepest - full_recovery(table, deepest, used)
+    return _points(table, d_m + delta, stiffness, unloading, area, status, residual)
+
+
+def _points(table: SummitTable, d, stiffness, unloading, area, status, residual) -> PathPoints:
+    """The `PathPoints` of the flat's heights `d` along the path; `residual`, the top summit's residual
+    interference after the path (table units)."""
+    ok = status == Status.OK
+    nan = lambda x: jnp.where(ok, x, jnp.nan)  # noqa: E731
     return PathPoints(
         approach_star=nan((d[0] - d) * table.span),
-        stiffness_star=nan(jnp.where(loading, jnp.sum(totals.stiffness, axis=-1), state.stiffness)),
-        unloading_star=nan(state.stiffness),
-        real_area_star=nan(jnp.where(loading, jnp.sum(totals.area, axis=-1), state.area)),
+        stiffness_star=nan(stiffness),
+        unloading_star=nan(unloading),
+        real_area_star=nan(area),
         status=status.astype(jnp.int32),
         residual_star=jnp.where(jnp.all(ok), residual * table.span, jnp.nan),
     )
