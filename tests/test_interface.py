@@ -93,6 +93,18 @@ def test_a_table_with_nothing_above_the_reference_is_refused(scene, law):
         pressure_overclosure(scene, highest)
 
 
+def test_the_header_names_measured_summits_not_the_unused_surface():
+    model = jc.MeasuredAsperities(1e-4, 1e9, np.linspace(0.0, 1e-6, 5), np.ones(5), summits=jc.KogutEtsionSummits())
+    scene = make_scene(**TABLE1).with_model(model)
+    header = [line for line in interface_csv(scene, jc.interface_law(scene, np.geomspace(1e5, 1e6, 3))).splitlines()][
+        :2
+    ]
+    assert header == [
+        f"# jaxcontact {jc.__version__} interface law, model measured-asperities, summits kogut-etsion",
+        "# measured summits R = 0.0001 m, density 1e+09 1/m^2, height PDF on 5 points over 1e-06 m",
+    ]
+
+
 def test_the_csv_names_the_nominal_area_it_belongs_to(scene, law):
     text = interface_csv(scene, law)
     assert "# nominal area A_a = 0.0001 m^2" in text

@@ -4,25 +4,48 @@ the law's provenance."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..core import Scene, solve, tangential_stiffness
+from ..models import MeasuredAsperities
 from ..numerics import InputError, check_positive
+from ..physics import MeasuredSpectrum
 from ..quantities import status_message
 from ._interface import InterfaceLaw
 
 
 def provenance(scene: Scene, law: InterfaceLaw) -> list[str]:
-    """What the law was computed from, one item per line: the model, the surface, the material, the
-    nominal area and the closure's reference pressure (SI units)."""
-    s, m = scene.surface, scene.material
+    """What the law was computed from, one item per line: the model and its choices, the roughness
+    it used, the material, the nominal area and the closure's reference pressure (SI units)."""
+    m = scene.material
+    choices = "".join(f", {key} {value}" for key, value in scene.model.options().items() if key != "model")
     return [
-        f"jaxcontact {_version()} interface law, model {scene.model.name}",
-        f"surface D = {float(s.D):.6g}, G = {float(s.G):.6g} m, l_min = {float(s.l_min):.6g} m",
+        f"jaxcontact {_version()} interface law, model {scene.model.name}{choices}",
+        _roughness(scene),
         f"material E = {float(m.E):.6g} Pa (contact modulus), nu = {float(m.nu):.6g}, H = {float(m.H):.6g} Pa",
         f"nominal area A_a = {float(law.nominal_area):.6g} m^2 (the law per unit area belongs to it)",
         f"closure measured from its value at the reference pressure p0 = {float(law.reference_pressure):.6g} Pa",
     ]
+
+
+def _roughness(scene: Scene) -> str:
+    """The roughness the model reads: measured summits, a measured spectrum, or the surface's D, G, l_min."""
+    model = scene.model
+    if isinstance(model, MeasuredAsperities):
+        heights = np.asarray(model.heights)
+        return (
+            f"measured summits R = {float(model.radius):.6g} m, density {float(model.density):.6g} 1/m^2, "
+            f"height PDF on {heights.size} points over {heights[-1] - heights[0]:.6g} m"
+        )
+    fields = (getattr(model, field.name) for field in dataclasses.fields(model))
+    spectrum = next((f for f in fields if isinstance(f, MeasuredSpectrum)), None)
+    if spectrum is not None:
+        q = np.exp(np.asarray(spectrum.log_q))
+        return f"measured spectrum C2D on {q.size} wavenumbers, q = {q[0]:.6g} to {q[-1]:.6g} 1/m"
+    s = scene.surface
+    return f"surface D = {float(s.D):.6g}, G = {float(s.G):.6g} m, l_min = {float(s.l_min):.6g} m"
 
 
 def pressure_overclosure(scene: Scene, law: InterfaceLaw) -> str:
