@@ -118,11 +118,11 @@ def follow(table: SummitTable, solve, root_finder, used: int, elastic: bool, F_s
     solve of one load, `F* ↦ (d, BandTotals, status)`, and `root_finder` solves each point below the
     path's running maximum for its Δ (module docstring). `elastic` summits (Hertz) retrace their
     loading curve: every point is then the loading solve at its load."""
-    peak = jax.lax.cummax(F_star)
     if elastic:
         d, totals, status = jax.vmap(solve)(F_star)
         stiffness = jnp.sum(totals.stiffness, axis=-1)
         return _points(table, d, stiffness, stiffness, jnp.sum(totals.area, axis=-1), status, jnp.zeros_like(d[0]))
+    peak = jax.lax.cummax(F_star)
     d_m, totals, status = jax.vmap(solve)(peak)
     below = F_star < peak
     find = functools.partial(_residual, used=used)
