@@ -1,10 +1,12 @@
 """Partial slip and friction loops of a boundary-element contact (`bem.friction_loops`): a rough
 map against a dense box-constrained least-squares solve of the same Coulomb problem (scipy's BVLS),
-a Hertz contact against Cattaneo–Mindlin and Mindlin–Deresiewicz, gross slip flagged, float32, bad
-input refused by name."""
+a Hertz contact against Cattaneo–Mindlin and Mindlin–Deresiewicz, derivatives against central
+differences, gross slip flagged, float32, bad input refused by name."""
 
 import math
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from helpers import refused_type
@@ -71,6 +73,32 @@ def test_a_force_beyond_gross_slip_is_flagged_and_leaves_the_others(rough):
     mixed = bem.friction_loops(heights, float(N), 1.0, load, MU, np.append(forces, 1.1 * MU * load), poisson=NU)
     assert int(mixed.status[-1]) == jc.Status.LOAD_OUT_OF_RANGE
     np.testing.assert_allclose(mixed.dissipation[:-1], loops.dissipation, rtol=1e-6)  # warm starts differ
+
+
+def loops_at(heights, load, x):
+    """The dissipation at 0.5 μF and the tip displacement at 0.8 μF as a function of
+    `x = (load factor, μ, force factor, ν, a step of the heights along a fixed direction)`."""
+    direction = np.cos(np.arange(N * N).reshape(N, N))
+    forces = np.array([0.2, 0.5, 0.8]) * MU * load
+    loops = bem.friction_loops(
+        heights + x[4] * direction, float(N), 1.0, load * x[0], x[1], forces * x[2], poisson=x[3]
+    )
+    return jnp.stack([loops.dissipation[1], loops.displacement[2]])
+
+
+def test_the_derivatives_are_central_differences(rough):
+    heights, load = rough[0], rough[1]
+    x0 = jnp.array([1.0, MU, 1.0, NU, 0.0])
+    derivatives = jax.jacfwd(lambda x: loops_at(heights, load, x))(x0)
+    steps = np.array([1e-6, 1e-6 * MU, 1e-6, 1e-6 * NU, 1e-6])
+    expected = np.stack(
+        [
+            (loops_at(heights, load, x0 + e) - loops_at(heights, load, x0 - e)) / (2 * h)
+            for e, h in zip(np.diag(steps), steps)
+        ],
+        axis=1,
+    )
+    np.testing.assert_allclose(derivatives, expected, rtol=1e-5)
 
 
 def test_float32_follows_float64(rough):

@@ -39,6 +39,7 @@ from ._checks import check_arguments, check_iteration, valid_problem
 from ._contact import DEFAULT_TOLERANCE, contact_at
 from ._operator import AbstractSubstrate, Periodic
 from ._problem import GridProblem
+from ._tangent import frozen_solution
 
 
 class FrictionLoops(eqx.Module):
@@ -87,14 +88,16 @@ def friction_loops(
     `poisson`, Poisson's ratio ν in [0, 0.5) of two bodies of like material; `nodes`,
     Gauss–Legendre nodes in Q on [0, Q₀] (static, 2–64).
 
-    **Returns:** a `FrictionLoops`. Not differentiable: the tangential solves are held
-    (`jax.lax.stop_gradient`). A force at or beyond μF is flagged `LOAD_OUT_OF_RANGE` (the contact
+    **Returns:** a `FrictionLoops`. Differentiable (`jax.grad`, `jax.jvp`) with respect to the
+    heights, the load, μ, the forces and ν: the iterations find the contact, stick and slip sets, and
+    the solutions on them are differentiated implicitly (`_tangent.frozen_solution`), as `bem.solve`'s
+    are. A force at or beyond μF is flagged `LOAD_OUT_OF_RANGE` (the contact
     slides as a whole); a solve that does not converge `NOT_CONVERGED`.
 
     **Raises:** `ValueError` as `bem.solve` for the map and the iteration, and for a non-positive
     load or μ, amplitudes that are not 1-D or not positive, ν outside [0, 0.5), or `nodes` outside 2–64.
     """
-    check_arguments(heights, size, modulus, np.atleast_1d(load), hardness, loads_name="load")
+    check_arguments(heights, size, modulus, jnp.atleast_1d(load), hardness, loads_name="load")
     check_iteration(tolerance, max_iterations)
     check_range("mu", mu, 0.0, meaning="friction coefficient")
     check_range("poisson", poisson, 0.0, 0.5, low_open=False, meaning="Poisson's ratio of like materials")
@@ -113,44 +116,67 @@ def friction_loops(
 
 @eqx.filter_jit
 def _loops(heights, size, modulus, load, mu, forces, nu, hardness, substrate, nodes, tolerance, max_iterations):
-    heights, size, modulus, load, mu, hardness = jax.lax.stop_gradient((heights, size, modulus, load, mu, hardness))
     sound, heights, size, modulus, hardness = valid_problem(heights, size, modulus, hardness)
+    sound &= jnp.isfinite(mu) & (mu > 0)
+    mu = jnp.where(sound, mu, 0.3)
     problem = GridProblem.build(heights, size, modulus, hardness, substrate, True, nu)
     total = load / problem.load_unit
-    uniform = jnp.full_like(problem.heights, total / problem.heights.size)
+    uniform = jax.lax.stop_gradient(jnp.full_like(problem.heights, total / problem.heights.size))
     normal = contact_at(problem, total, uniform, tolerance, max_iterations)
-    pressure = jnp.where(normal["found"] > 0, normal["found"], 0.0)
-    limit = mu * pressure  # the tangential traction's cap per point
+    # The cap per point, differentiable through the normal solve's own implicit derivative.
+    limit = mu * jnp.where(normal["found"] > 0, normal["pressure"], 0.0)
     stick = normal["tangential_stiffness"]  # full stick, grid units
+    macroslip = jnp.sum(limit)
+    amplitudes = forces / problem.load_unit
+    in_range = (amplitudes > 0) & (amplitudes < macroslip) & jnp.isfinite(amplitudes)
+    amplitudes = jnp.where(in_range, amplitudes, 0.5 * macroslip)  # flagged ones: a stand-in, solved and dropped
 
     x, w = gauss_legendre(nodes)
     fractions = jnp.concatenate([0.5 * (jnp.asarray(x, heights.dtype) + 1.0), jnp.ones((1,), heights.dtype)])
-    amplitudes = forces / problem.load_unit
     levels = (amplitudes[:, None] * fractions[None, :]).reshape(-1)
     order = jnp.argsort(levels)
+    held = jax.lax.stop_gradient((problem.tangential, limit))
 
     def one(carry, level):
         ratio = level / jnp.where(carry[1] > 0, carry[1], 1.0)
-        start = jnp.where(carry[1] > 0, carry[0] * ratio, limit * (level / jnp.sum(limit)))
-        state = contact_cg(problem.tangential, jnp.zeros_like(pressure), level, limit, start, tolerance, max_iterations)
-        sticking = (state.pressure > 0) & (state.pressure < limit)
-        share = jnp.sum(sticking, dtype=pressure.dtype) / jnp.maximum(jnp.sum(pressure > 0, dtype=pressure.dtype), 1.0)
-        return (state.pressure, level), (state.offset, share, state.converged, state.iterations)
+        start = jnp.where(carry[1] > 0, carry[0] * ratio, held[1] * (level / jnp.sum(held[1])))
+        zeros = jnp.zeros_like(limit)
+        # The iteration finds the stick and slip sets (never differentiated); the solution on them is
+        # the differentiable one (`_tangent.frozen_solution`, the capped normal problem's).
+        state = contact_cg(*held[:1], zeros, level, held[1], start, tolerance, max_iterations)
+        sticking = (state.pressure > 0) & (state.pressure < held[1])
+        sliding = (state.pressure >= held[1]) & (held[1] > 0)
+        return (state.pressure, level), (
+            sticking,
+            sliding,
+            state.pressure,
+            state.offset,
+            state.converged,
+            state.iterations,
+        )
 
-    start = (jnp.zeros_like(pressure), jnp.zeros((), pressure.dtype))
-    _, (offsets, shares, converged, iterations) = jax.lax.scan(one, start, levels[order])
+    start = (jnp.zeros_like(limit), jnp.zeros((), limit.dtype))
+    _, found = jax.lax.scan(one, start, jax.lax.stop_gradient(levels[order]))
     back = jnp.argsort(order)
+    sticking, sliding, tractions, guesses, converged, iterations = (a[back] for a in found)
+
+    def frozen(level, stuck, slid, traction, guess):
+        return frozen_solution(
+            problem.tangential, jnp.zeros_like(limit), level, limit, stuck, slid, traction, guess, tolerance, False
+        )[1]
+
+    offsets = jax.lax.map(lambda a: frozen(*a), (levels, sticking, sliding, tractions, guesses))
+    contact = jnp.maximum(jnp.sum(limit > 0, dtype=limit.dtype), 1.0)
     shape = (amplitudes.size, nodes + 1)
-    offsets, shares, converged, iterations = (a[back].reshape(shape) for a in (offsets, shares, converged, iterations))
+    shares = (jnp.sum(sticking, axis=(1, 2), dtype=limit.dtype) / contact).reshape(shape)
+    offsets, converged, iterations = (a.reshape(shape) for a in (offsets, converged, iterations))
     slip = offsets - levels.reshape(shape) / stick  # δ − Q/K_t, grid units
     weights = 0.5 * jnp.asarray(w, heights.dtype) * amplitudes[:, None]
     energy = 4.0 * amplitudes * slip[:, -1] - 8.0 * jnp.sum(weights * slip[:, :-1], axis=1)
 
-    macroslip = jnp.sum(limit)
-    in_range = (amplitudes > 0) & (amplitudes < macroslip) & jnp.isfinite(amplitudes)
     status = jnp.where(jnp.all(converged, axis=1), normal["status"], Status.NOT_CONVERGED)
     status = jnp.where(in_range, status, Status.LOAD_OUT_OF_RANGE)
-    status = jnp.where(sound & jnp.isfinite(mu) & (mu > 0), status, Status.INVALID_PARAMETERS).astype(jnp.int32)
+    status = jnp.where(sound, status, Status.INVALID_PARAMETERS).astype(jnp.int32)
     ok = status == Status.OK
     displacement = offsets[:, -1] * problem.scale
     dissipation = energy * problem.load_unit * problem.scale

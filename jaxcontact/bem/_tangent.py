@@ -71,12 +71,23 @@ def _unit_response(compliance: Compliance, points, tolerance: float):
 
 
 def frozen_solution(
-    compliance: Compliance, heights, total, hardness, active, plastic, guess, guess_offset, tolerance: float
+    compliance: Compliance,
+    heights,
+    total,
+    hardness,
+    active,
+    plastic,
+    guess,
+    guess_offset,
+    tolerance: float,
+    fixed_compliance: bool = True,
 ):
     """`(pressure, offset, stiffness)` on the sets `active` (0 < p < H) and `plastic` (p = H), grid units.
 
     `guess`, `guess_offset`: the pressure and offset the constrained iteration found (a warm start
-    for the second solve); `tolerance`: the conjugate gradients' relative tolerance.
+    for the second solve); `tolerance`: the conjugate gradients' relative tolerance;
+    `fixed_compliance`: whether the compliance is a constant of the differentiation (the normal one
+    in grid units is; the tangential one depends on ν).
     """
     x1 = _unit_response(compliance, active, tolerance)
     plastic_pressure = jnp.where(plastic, jnp.where(plastic, hardness, 0.0), 0.0).astype(heights.dtype)
@@ -86,7 +97,8 @@ def frozen_solution(
     stiffness = jnp.sum(jnp.where(active, x1, 0.0))
     # Σ x2 = 1ᵀ C_AA⁻¹ rhs = x1ᵀ rhs (C_AA symmetric): written so, the offset's derivative is a dot
     # product with x1, which depends on the sets alone, and needs no solve per tangent direction.
-    offset = (total - jnp.sum(plastic_pressure) - jnp.sum(jax.lax.stop_gradient(x1) * rhs)) / stiffness
+    weights = jax.lax.stop_gradient(x1) if fixed_compliance else x1
+    offset = (total - jnp.sum(plastic_pressure) - jnp.sum(weights * rhs)) / stiffness
     pressure = jnp.where(active, x2 + offset * x1, plastic_pressure)
     return pressure, offset, stiffness
 
