@@ -86,7 +86,8 @@ def friction_loops(
     `max_iterations` as `bem.solve` takes them; `load`, the normal load F, N; `mu`, the friction
     coefficient μ > 0; `forces`, tangential force amplitudes Q₀, N, a 1-D array in (0, μF);
     `poisson`, Poisson's ratio ν in [0, 0.5) of two bodies of like material; `nodes`,
-    Gauss–Legendre nodes in Q on [0, Q₀] (static, 2–64).
+    Gauss–Legendre nodes in Q on [0, Q₀] (static, 2–64). It holds one traction map per node and
+    amplitude at once: `(nodes + 1) × amplitudes` maps of n² values.
 
     **Returns:** a `FrictionLoops`. Differentiable (`jax.grad`, `jax.jvp`) with respect to the
     heights, the load, μ, the forces and ν: the iterations find the contact, stick and slip sets, and
