@@ -136,41 +136,38 @@ def _loops(heights, size, modulus, load, mu, forces, nu, hardness, substrate, no
     fractions = jnp.concatenate([0.5 * (jnp.asarray(x, heights.dtype) + 1.0), jnp.ones((1,), heights.dtype)])
     levels = (amplitudes[:, None] * fractions[None, :]).reshape(-1)
     order = jnp.argsort(levels)
-    held = jax.lax.stop_gradient((problem.tangential, limit))
+    held_compliance, held_limit = jax.lax.stop_gradient((problem.tangential, limit))
+    zeros = jnp.zeros_like(limit)
+
+    def sets(traction):
+        """The points that stick (0 < q < μp) and those that slide (q = μp) under a traction map."""
+        return (traction > 0) & (traction < held_limit), (traction >= held_limit) & (held_limit > 0)
 
     def one(carry, level):
         ratio = level / jnp.where(carry[1] > 0, carry[1], 1.0)
-        start = jnp.where(carry[1] > 0, carry[0] * ratio, held[1] * (level / jnp.sum(held[1])))
-        zeros = jnp.zeros_like(limit)
+        start = jnp.where(carry[1] > 0, carry[0] * ratio, held_limit * (level / jnp.sum(held_limit)))
         # The iteration finds the stick and slip sets (never differentiated); the solution on them is
         # the differentiable one (`_tangent.frozen_solution`, the capped normal problem's).
-        state = contact_cg(*held[:1], zeros, level, held[1], start, tolerance, max_iterations)
-        sticking = (state.pressure > 0) & (state.pressure < held[1])
-        sliding = (state.pressure >= held[1]) & (held[1] > 0)
-        return (state.pressure, level), (
-            sticking,
-            sliding,
-            state.pressure,
-            state.offset,
-            state.converged,
-            state.iterations,
-        )
+        state = contact_cg(held_compliance, zeros, level, held_limit, start, tolerance, max_iterations)
+        return (state.pressure, level), (state.pressure, state.offset, state.converged, state.iterations)
 
-    start = (jnp.zeros_like(limit), jnp.zeros((), limit.dtype))
+    start = (zeros, jnp.zeros((), limit.dtype))
     _, found = jax.lax.scan(one, start, jax.lax.stop_gradient(levels[order]))
     back = jnp.argsort(order)
-    sticking, sliding, tractions, guesses, converged, iterations = (a[back] for a in found)
+    tractions, guesses, converged, iterations = (a[back] for a in found)
 
-    def frozen(level, stuck, slid, traction, guess):
-        return frozen_solution(
-            problem.tangential, jnp.zeros_like(limit), level, limit, stuck, slid, traction, guess, tolerance, False
-        )[1]
+    def frozen(level, traction, guess):
+        stuck, slid = sets(traction)
+        return frozen_solution(problem.tangential, zeros, level, limit, stuck, slid, traction, guess, tolerance, False)[
+            1
+        ]
 
-    offsets = jax.lax.map(lambda a: frozen(*a), (levels, sticking, sliding, tractions, guesses))
-    contact = jnp.maximum(jnp.sum(limit > 0, dtype=limit.dtype), 1.0)
+    offsets = jax.lax.map(lambda a: frozen(*a), (levels, tractions, guesses))
     shape = (amplitudes.size, nodes + 1)
-    shares = (jnp.sum(sticking, axis=(1, 2), dtype=limit.dtype) / contact).reshape(shape)
     offsets, converged, iterations = (a.reshape(shape) for a in (offsets, converged, iterations))
+    tips = tractions.reshape(*shape, *limit.shape)[:, -1]
+    contact = jnp.maximum(jnp.sum(held_limit > 0, dtype=limit.dtype), 1.0)
+    shares = jnp.sum(sets(tips)[0], axis=(1, 2), dtype=limit.dtype) / contact
     slip = offsets - levels.reshape(shape) / stick  # δ − Q/K_t, grid units
     weights = 0.5 * jnp.asarray(w, heights.dtype) * amplitudes[:, None]
     energy = 4.0 * amplitudes * slip[:, -1] - 8.0 * jnp.sum(weights * slip[:, :-1], axis=1)
@@ -188,7 +185,7 @@ def _loops(heights, size, modulus, load, mu, forces, nu, hardness, substrate, no
         dissipation=nan(dissipation),
         secant_stiffness=nan(forces / displacement),
         damping_ratio=nan(dissipation / (2 * math.pi * forces * displacement)),
-        stick_share=nan(shares[:, -1]),
+        stick_share=nan(shares),
         stick_stiffness=jnp.where(normal["status"] == Status.OK, stick * problem.stiffness_unit, jnp.nan),
         macroslip_force=macroslip * problem.load_unit,
         status=status,
