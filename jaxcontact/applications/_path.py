@@ -1,6 +1,6 @@
 """The joint along a load path in the order applied: load, unload, reload (docs/in-service.md).
 
-An elastic model (GW, Persson, measured Hertz summits) has no memory: every point of a path is the
+An elastic model without a path law (GW, Persson) has no memory: every point of a path is the
 loading solve at its load, and the approach is the load–approach curve read from the path's first
 point. A model with a memory of the path (`AbstractPathModel.path_solver`) follows it: the
 boundary-element model the plastic flattening of its capped surface, `MeasuredAsperities` each

@@ -61,8 +61,8 @@ def format_results(r: dict) -> str:
         f"{r['compilation_cache']['warm_s']:.2f} s",
         *_interface_lines(r.get("interface"), verdict),
         *_cycle_lines(r.get("tangential_cycle"), verdict),
-        *_path_lines(r.get("bem_path"), verdict),
-        *_against(r.get("summit_path"), verdict, SUMMIT_PATH, ("path", "solve", "over_solve"), 3.0, "ms"),
+        *_path_lines(r.get("bem_path"), verdict, BEM_PATH, 1.5, "s"),
+        *_path_lines(r.get("summit_path"), verdict, SUMMIT_PATH, 3.0, "ms"),
         *_spectrum_lines(r.get("measured_spectrum"), verdict),
         "",
         "what each effect costs (20000 loads):",
@@ -118,13 +118,14 @@ def _against(timing: dict | None, verdict, what: tuple[str, str], names: tuple[s
     ]
 
 
+BEM_PATH = ("capped BEM 256², 10-point load–unload path", "bem.solve of the same loads")
 SUMMIT_PATH = ("measured Kogut–Etsion summits, 200-point load–unload–reload path", "solve of the same loads")
 
 
-def _path_lines(timing: dict | None, verdict) -> list[str]:
-    """The capped BEM path's line of the report."""
-    what = ("capped BEM 256², 10-point load–unload path", "bem.solve of the same loads")
-    return _against(timing, verdict, what, ("path", "solve", "over_solve"), 1.5, "s")
+def _path_lines(timing: dict | None, verdict, what: tuple[str, str], target: float, unit: str) -> list[str]:
+    """A load path's line of the report: the path and the solve of the same loads (`what`, their
+    labels), their ratio against `target`."""
+    return _against(timing, verdict, what, ("path", "solve", "over_solve"), target, unit)
 
 
 def _spectrum_lines(timing: dict | None, verdict) -> list[str]:
