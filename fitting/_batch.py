@@ -91,7 +91,7 @@ def fit_batch(
     outcome, seconds = batch(sigmas, gaussian)
     wall_time = time.perf_counter() - t0
     result = batch_statistics(
-        scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time + seconds, gaussian, sigmas
+        scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time + seconds, gaussian, sigmas, first.stated
     )
     return without(result, bad)
 

@@ -48,7 +48,7 @@ class BatchResult:
 
 
 def batch_statistics(
-    scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time, gaussian=None, sigmas=None
+    scene, fitted, loads, data, outcome, max_iter, wall_time, compile_time, gaussian=None, sigmas=None, stated=False
 ):
     """Per curve (`data`: each one's `Observations`), `statistics_of` at its optimum `u` (optimiser
     coordinates) from the program's residuals `r`, valid mask `ok`, statuses and Jacobian `J` (each
@@ -58,7 +58,8 @@ def batch_statistics(
     `(u, loss, k, converged, r, ok, status, J, us, losses)`,
     the last two every start's end and loss (½ mean r² over every entry, measured or not). With a
     prior (`gaussian`), each curve's intervals are the Laplace posterior's at its noise `sigmas[c]`
-    (`with_prior_of`), as `fit`'s."""
+    (`with_prior_of`; `stated`: whether the noise was stated, else each curve's σ was estimated from
+    its residuals fitted alone), as `fit`'s."""
     u, loss, k, converged, r, ok, status, J, us, losses = outcome
     p, curves = len(fitted), u.shape[0]
     names = [q.name for q in fitted]
@@ -82,7 +83,8 @@ def batch_statistics(
         sigma = 1.0
         if gaussian is not None:
             sigma = float(sigmas[c])
-            result, found = with_prior_of(result, e, fitted, stat, gaussian, sigma)
+            dof = None if stated else max(int(e.measured.sum()) - p, 1)
+            result, found = with_prior_of(result, e, fitted, stat, gaussian, sigma, dof)
             information.append(found)
         for n in names:
             values[n][c], stderr[n][c], ci95[n][c] = result.values[n], result.stderr[n], result.ci95[n]

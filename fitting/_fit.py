@@ -158,6 +158,8 @@ def fit_problem(
         u0s = np.stack([[float(p.u_from_stat(p.to_stat(v))) for p, v in zip(fitted, row)] for row in starts])
     traced_scene = problem.traced
     objective = Objective(traced_scene, fitted, data, loads.size)
+    # The degrees of freedom of the noise's estimate (None: stated), for the intervals' quantiles.
+    dof = None if stated else max(objective.n_points - len(fitted), 1)
     if gaussian is not None:
         # Stated noise is in the weights already: the weighted residuals are in units of σ.
         sigma = noise_scale(objective, u0s[0], 1.0 if stated else None, max_iter, tol, len(fitted))
@@ -171,7 +173,7 @@ def fit_problem(
     result = statistics(traced_scene, fitted, loads, data, stat_hat)
     information = {}
     if gaussian is not None:
-        result, information = with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma)
+        result, information = with_prior(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian, sigma, dof)
     profiles = {}
     if profile:
         profiles, result = profiles_of(result, fitted, traced_scene, data, loads.size, stat_hat, gaussian is None)

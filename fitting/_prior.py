@@ -26,7 +26,7 @@ from jaxcontact.topography import AbstractMeasurementKind, Characterisation
 from ._optimise import AbstractObjective, run_lm
 from ._residuals import evaluated
 from ._spectral_prior import decorrelated, spectral_coordinates
-from ._statistics import NORMAL_975, stderr_and_interval
+from ._statistics import NORMAL_975, stderr_and_interval, student_t
 
 # Below this noise (ln K) a curve would outweigh any prior without limit: no measured curve is better.
 NOISE_FLOOR = 1e-3
@@ -253,20 +253,37 @@ def prior_arrays(prior: GaussianPrior | None, dtype) -> tuple:
     return tuple(jnp.asarray(x, dtype) for x in (prior.root, prior.mean, prior.log_q)), prior.index, prior.kind
 
 
-def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma):
-    """`result` with the Laplace posterior's covariance and intervals (normal quantiles), and the
+def with_prior(result, fitted, scene, data, rows, stat_hat, gaussian, sigma, dof=None):
+    """`result` with the Laplace posterior's covariance and intervals (`with_prior_of`), and the
     information report by parameter name."""
-    return with_prior_of(result, evaluated(stat_hat, scene, fitted, data, rows), fitted, stat_hat, gaussian, sigma)
+    e = evaluated(stat_hat, scene, fitted, data, rows)
+    return with_prior_of(result, e, fitted, stat_hat, gaussian, sigma, dof)
 
 
-def with_prior_of(result, e, fitted, stat_hat, gaussian, sigma):
-    """`with_prior` from the residuals and Jacobian `e` at the optimum `stat_hat`."""
+def posterior_quantile(curve_share: float, dof: int | None) -> float:
+    """The 97.5 % quantile of a Laplace interval whose curve part has the share `curve_share` of the
+    parameter's precision, the curve's σ estimated with `dof` degrees of freedom (None: σ stated).
+
+    The precision `λ = a/σ̂² + b` inherits the relative variance `2 s²/ν` of `1/σ̂²` through its curve
+    share `s = a/(σ² λ)`: Satterthwaite's `ν/s²` degrees of freedom, Student's t of the curve alone
+    (`s = 1`) down to the prior's normal quantile (`s = 0`)."""
+    if dof is None or curve_share <= 0.0:
+        return NORMAL_975
+    return student_t(dof / min(curve_share, 1.0) ** 2)
+
+
+def with_prior_of(result, e, fitted, stat_hat, gaussian, sigma, dof=None):
+    """`with_prior` from the residuals and Jacobian `e` at the optimum `stat_hat`; `dof`: the degrees of
+    freedom of σ's estimate (None where the noise was stated), for each interval's quantile
+    (`posterior_quantile`; a parameter without a prior of its own counts as the curve's alone)."""
     post = posterior(e.J[e.used], sigma, gaussian, stat_hat)
     covariance = post["covariance"]
     spread = np.sqrt(np.diag(covariance))
     stderr, ci95 = {}, {}
     for i, p in enumerate(fitted):
-        stderr[p.name], ci95[p.name] = stderr_and_interval(p, stat_hat[i], spread[i], NORMAL_975)
+        share = post["shares"][i]["curve_share"] if i in post["shares"] else 1.0
+        quantile = posterior_quantile(share, dof)
+        stderr[p.name], ci95[p.name] = stderr_and_interval(p, stat_hat[i], spread[i], quantile)
     if not result.describes_data:  # no interval for a model that does not describe the curve
         stderr = dict.fromkeys(stderr, math.nan)
         ci95 = dict.fromkeys(ci95, (math.nan, math.nan))

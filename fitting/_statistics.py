@@ -89,7 +89,7 @@ def inner_bounds(p: FitParameter):
     return lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo)
 
 
-def student_t(dof: int) -> float:
+def student_t(dof: float) -> float:
     """The 97.5 % quantile of Student's t with `dof` degrees of freedom (NaN for none)."""
     return float(special.stdtrit(dof, 0.975)) if dof > 0 else math.nan  # scipy.stats costs 1 s to import
 

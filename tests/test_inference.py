@@ -107,6 +107,39 @@ def test_the_report_says_how_much_came_from_the_curve(table1_without_interaction
     assert wide.information["D"]["curve_share"] > 0.99
 
 
+@pytest.fixture(scope="module")
+def half_informed(table1_without_interaction):
+    """A curve of 8 points and a prior on D that each carry part of D's information."""
+    loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR[::2], noise=0.05, seed=5)
+    prior = {"D": fitting.Normal(TRUTH["D"], 0.002)}
+    return loads, K, prior, fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior)
+
+
+def _quantile(result):
+    low, high = result.ci95["D"]
+    return (high - low) / (2 * result.stderr["D"])
+
+
+def test_an_estimated_noise_widens_the_interval_by_satterthwaites_t(half_informed):
+    """σ from the curve's N − p residuals: Student's t with (N − p)/s² degrees of freedom, s the curve's
+    share of D's precision (scipy's quantile)."""
+    from scipy import stats
+
+    loads, _, _, result = half_informed
+    share = result.information["D"]["curve_share"]
+    assert 0.05 < share < 0.95, share  # a case where neither side decides alone
+    dof = (loads.size - 2) / share**2
+    assert _quantile(result) == pytest.approx(stats.t.ppf(0.975, dof), rel=1e-9)
+
+
+def test_a_stated_noise_gives_the_normal_quantile(half_informed, table1_without_interaction):
+    from scipy import stats
+
+    loads, K, prior, _ = half_informed
+    result = fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior, noise=0.05)
+    assert _quantile(result) == pytest.approx(stats.norm.ppf(0.975), rel=1e-6)
+
+
 def test_joint_inference_covers_the_truth_over_seeds(table1_without_interaction):
     """Seed-model curves (5 % noise) with a surface prior drawn around the truth at its own covariance."""
     covariance = np.array([[0.02**2, 0.9 * 0.02 * 0.6], [0.9 * 0.02 * 0.6, 0.6**2]])
