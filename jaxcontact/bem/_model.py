@@ -35,9 +35,13 @@ class BEM(AbstractSweptModel):
     - `realisations`, `seed`: the surface's random realisations (seeds `seed`, `seed + 1`, ...: the
       surfaces of `bem.reference_curves`); K is their mean.
     - `plastic`: cap the pressure at the scene's hardness H.
-    - `relative_step`: ε of the secant stiffness `2F sinh(ε)/(δ(F e^ε) − δ(F e^−ε))` (the
-      reference's definition; its derivatives with respect to D, G and l_min are those of a smooth
-      curve); 0 gives the exact tangent of the discretised contact, piecewise constant in D, G, l_min.
+    - `relative_step`: ε of the secant stiffness `2F sinh(ε)/(δ(F e^ε) − δ(F e^−ε))`, the mean
+      compliance over loads within a factor e^±ε; 0 gives the exact tangent of the discretised
+      contact, piecewise constant in D, G, l_min. The approach δ is continuous in the parameters
+      but kinked wherever a grid point enters contact, so a secant over a wide step is what a
+      gradient can fit: with the default 0.2, the local d ln K/dD over D ± 0.01 stays within 0.89–1.13
+      of its mean slope on 256² (0.70–1.27 with the reference's ε = 0.02, 0–2.6 on 64²), and K lies
+      within −0.3 % to +1.4 % of the exact tangent (0.8–22 % of the grid in contact, D = 1.3–1.7).
     - `rolloff`: the width, in modes, of the spectrum's cutoff at 2π/l_min (0: sharp, the reference's
       surfaces exactly, and results piecewise constant in l_min).
     - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1),
@@ -61,7 +65,7 @@ class BEM(AbstractSweptModel):
     realisations: int = eqx.field(static=True, default=2)
     seed: int = eqx.field(static=True, default=0)
     plastic: bool = eqx.field(static=True, default=False)
-    relative_step: float = eqx.field(static=True, default=0.02)
+    relative_step: float = eqx.field(static=True, default=0.2)
     rolloff: float = eqx.field(static=True, default=2.0)
     tolerance: float | None = eqx.field(static=True, default=None)
     max_iterations: int = eqx.field(static=True, default=2000)

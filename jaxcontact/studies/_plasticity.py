@@ -64,13 +64,16 @@ def plasticity_rows(
     import equinox as eqx
 
     from ..bem import BEM
+    from ..bem._solver import REFERENCE_STEP
     from ..core import solve
 
     def with_values(base, D, H):
         return eqx.tree_at(lambda s: (s.surface.D, s.material.H), base, (np.asarray(D, float), np.asarray(H, float)))
 
     def bem_curve(at, plastic, loads):
-        model = BEM(grid=grid, realisations=realisations, seed=seed, plastic=plastic, rolloff=0.0)
+        model = BEM(
+            grid=grid, realisations=realisations, seed=seed, plastic=plastic, rolloff=0.0, relative_step=REFERENCE_STEP
+        )
         solution = solve(at.with_model(model), loads)
         return np.asarray(solution.stiffness), np.asarray(solution.real_area) / float(at.area)
 

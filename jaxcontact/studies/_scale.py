@@ -47,6 +47,7 @@ def scale_rows(
 
     from ..bem import BEM
     from ..bem import solve as bem_solve
+    from ..bem._solver import REFERENCE_STEP
 
     size = math.sqrt(float(scene.area))
     unit_load = float(scene.material.E) * float(scene.area)
@@ -59,7 +60,7 @@ def scale_rows(
             )
             if load is None:
                 load = loads_for_fractions(at, (fraction,))
-            model = BEM(grid=4 * n, realisations=realisations, seed=seed, rolloff=0.0)
+            model = BEM(grid=4 * n, realisations=realisations, seed=seed, rolloff=0.0, relative_step=REFERENCE_STEP)
             # Each realisation on its own (the model's secant, `bem.solve` on its surfaces): the mean
             # is the model's K, and the spread says how far one realisation is from another.
             each = [

@@ -68,6 +68,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     **Raises:** `SpectrumSkipped` for a line scan or a band the grid cannot hold.
     """
     from ..bem import BEM
+    from ..bem._solver import REFERENCE_STEP
     from ..core import Scene, solve
     from ..models import GreenwoodWilliamson, Persson
     from ..numerics import InputError
@@ -93,7 +94,12 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     measured = scene.with_model(Persson(spectrum=spectrum))
     loads = loads_for_fractions(scene, fractions, spectrum)
     bem = [
-        solve(scene.with_model(BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum)), loads)
+        solve(
+            scene.with_model(
+                BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum, relative_step=REFERENCE_STEP)
+            ),
+            loads,
+        )
         for seed in range(realisations)
     ]
     K = np.array([np.asarray(b.stiffness) for b in bem])
