@@ -33,9 +33,11 @@ def scene():
 
 
 def test_the_sharp_cutoff_gives_the_references_surfaces_and_stiffness():
-    """Surface by surface the ContactMechanics reference (`reference_curves`) and the JAX model agree."""
+    """Surface by surface the ContactMechanics reference (`reference_curves`) and the JAX model agree,
+    the model's secant taken over the reference's step."""
     setting = dict(BEM_SETTING, l_min=L / 32)
-    model = make_scene(**setting, model=jc.BEM(grid=128, realisations=2, rolloff=0.0))
+    step = bem.BEMSettings().relative_step
+    model = make_scene(**setting, model=jc.BEM(grid=128, realisations=2, rolloff=0.0, relative_step=step))
     mine = jc.solve(model, LOADS)
     reference = bem.reference_curves(model, LOADS, grid=128, realisations=2, convergence=False)
     np.testing.assert_allclose(np.asarray(mine.stiffness), reference.mean, rtol=1e-5)
@@ -188,7 +190,8 @@ def scale_row():
 def test_the_scale_studys_bem_is_the_bem_models_mean_over_its_realisations(scale_row):
     row, scene = scale_row
     at = eqx.tree_at(lambda s: s.surface.l_min, scene, jnp.asarray(L / 16))
-    model = jc.BEM(grid=64, realisations=2, rolloff=0.0)
+    # The study measures the models against the reference's secant.
+    model = jc.BEM(grid=64, realisations=2, rolloff=0.0, relative_step=bem.BEMSettings().relative_step)
     K = float(jc.solve(at.with_model(model), jnp.asarray([row["F_N"]])).stiffness[0])
     np.testing.assert_allclose(row["K_bem_N_per_m"], K, rtol=1e-6)
 
@@ -196,3 +199,39 @@ def test_the_scale_studys_bem_is_the_bem_models_mean_over_its_realisations(scale
 def test_the_scale_studys_band_holds_the_ratio_to_the_mean(scale_row):
     row, _ = scale_row
     assert row["ratio_persson_low"] < row["ratio_persson"] < row["ratio_persson_high"]
+
+
+def _slope_ratios(scene, loads=jnp.asarray(LOADS), half_width=0.01, points=5):
+    """The local d ln K/dD at `points` values of D across D ± `half_width`, over the mean slope there."""
+
+    def log_K(D):
+        return jnp.log(jc.solve(eqx.tree_at(lambda s: s.surface.D, scene, D), loads).stiffness)
+
+    Ds = SMALL["D"] + np.linspace(-half_width, half_width, points)
+    slope = jax.jit(jax.jacfwd(log_K))
+    local = np.array([slope(jnp.asarray(D)) for D in Ds])
+    mean = (np.asarray(log_K(Ds[-1])) - np.asarray(log_K(Ds[0]))) / (2 * half_width)
+    return local / mean
+
+
+def test_the_default_secant_is_smooth_enough_for_a_gradient_to_fit(scene):
+    """Its local slope in D stays within 20 % of the mean slope over D ± 0.01 (the reference's secant,
+    ε = 0.02, swings 0.53–1.59× here)."""
+    ratios = _slope_ratios(scene)
+    assert np.all(np.abs(ratios - 1) < 0.2), ratios
+
+
+@pytest.fixture(scope="module")
+def study_fits():
+    """The fits study (`compare --fits`) at D = 1.5 on its first two seeds, the BEM model alone."""
+    from jaxcontact.studies._bem_fits import bem_fit_rows
+
+    return bem_fit_rows(make_scene(**BEM_SETTING), Ds=(1.5,), seeds=range(2), models=("bem",))
+
+
+@pytest.mark.parametrize("prior", [False, True], ids=["curve alone", "with the map's prior"])
+def test_the_bem_models_intervals_hold_the_true_d(study_fits, prior):
+    """Coverage over 20 seeds at each of D = 1.3, 1.5, 1.7 is the study's (docs/fitting.md)."""
+    rows = [r for r in study_fits if r["prior"] == prior]
+    assert len(rows) == 2
+    assert all(r["D_low"] <= 1.5 <= r["D_high"] for r in rows), [(r["D_low"], r["D_high"]) for r in rows]

@@ -58,11 +58,14 @@ def cmd_compare(args) -> int:
         flags = f"--scale --realisations {args.realisations} --seed {args.seed}"
         return _table(args, out, rows, "scale.csv", flags, scale_table(rows))
     if args.fits:
-        from ..studies._bem_fits import bem_fit_rows, bem_fit_table
+        from ..studies._bem_fits import bem_fit_rows, bem_fit_table, fit_models
 
         seeds = range(args.seed, args.seed + args.realisations)
-        rows = bem_fit_rows(spec.scene, seeds=seeds, progress=progress(args, "curves"))
+        models = fit_models(args.fit_models)
+        rows = bem_fit_rows(spec.scene, seeds=seeds, models=models, progress=progress(args, "curves"))
         flags = f"--fits --realisations {args.realisations} --seed {args.seed}"
+        if args.fit_models is not None:
+            flags += f" --fit-models '{','.join(models)}'"
         return _table(args, out, rows, "fits.csv", flags, bem_fit_table(rows))
     if args.validation:
         rows = validation_rows(spec.scene, progress=progress(args, "BEM"), convergence=False, **options)

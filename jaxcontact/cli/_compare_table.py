@@ -41,6 +41,12 @@ def add_compare_options(p) -> None:
         "characterisation as prior",
     )
     p.add_argument(
+        "--fit-models",
+        default=None,
+        help="with --fits: the fitted models, comma-separated, of bem, persson, gw, 'xia2024 sneddon', "
+        "'xia2024 none' (default: all)",
+    )
+    p.add_argument(
         "--plasticity",
         nargs="+",
         type=float,

@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 
+from ..numerics import InputError
 from ._compare import VALIDATION_D, loads_for_fractions
 from ._plasticity import elastic
 
@@ -20,6 +21,17 @@ FIT_MODELS = {
     "xia2024 sneddon": dict(model="xia2024", interaction="none", spot_stiffness="sneddon"),
     "xia2024 none": dict(model="xia2024", interaction="none"),
 }
+
+
+def fit_models(names: str | None) -> tuple[str, ...]:
+    """The labels of `FIT_MODELS` named in `names` (comma-separated; None: all of them)."""
+    if names is None:
+        return tuple(FIT_MODELS)
+    chosen = tuple(name.strip() for name in names.split(","))
+    unknown = [name for name in chosen if name not in FIT_MODELS]
+    if unknown or not chosen:
+        raise InputError(f"fit models = {names!r}: each must be one of {', '.join(FIT_MODELS)}")
+    return chosen
 
 
 def bem_fit_rows(
@@ -33,6 +45,7 @@ def bem_fit_rows(
     noise: float = 0.03,
     start=(1.4, 3.0),
     priors=(False, True),
+    models=tuple(FIT_MODELS),
     progress=None,
 ) -> list[dict]:
     """For each D and seed: an elastic BEM curve of that realisation (grid 4·`divisions`, l_min = L/divisions,
@@ -41,7 +54,9 @@ def bem_fit_rows(
     G = `start[1]` × the true G; the seed model with every spot elastic, `elastic`), once alone and
     once (`priors` holding True) with the prior of the same surface's map characterised
     (`topography.characterise`, in its spectrum's coordinates; the fit starts at its estimate, the BEM
-    model's from 2 starts instead of 4).
+    model's from 2 starts instead of 4). `models`: the labels of `FIT_MODELS` fitted. A map whose
+    spectrum has no power-law band (`topography.NoBandError`) has no prior: its surface columns are
+    NaN and its fits with a prior are left out.
 
     **Returns:** one dict per (D, seed, model, prior): `D_true`, `seed`, `model`, `prior`, `D`, `D_low`,
     `D_high` (the 95 % interval), `covered`, `G_ratio` (fitted over true G), `G_covered`, `success`,
@@ -56,7 +71,7 @@ def bem_fit_rows(
     # The seed model's elastic limit is a hardness far below what metals have (`elastic`).
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)
-        return _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress)
+        return _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, models, progress)
 
 
 def surface_map(scene, model):
@@ -69,14 +84,29 @@ def surface_map(scene, model):
     return st.Topography(heights, (size, size), periodic=True, unit="m")
 
 
-def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, progress) -> list[dict]:
+def _own(surface, G_true) -> dict:
+    """The characterised map's own D and G against the truth (NaN without a power-law band)."""
+    if surface is None:
+        nan = dict.fromkeys(("D_surface", "D_surface_low", "D_surface_high", "G_surface_ratio"), math.nan)
+        return nan | {"G_surface_covered": False}
+    G_low, G_high = surface.ci95["G"]
+    return {
+        "D_surface": surface.D,
+        "D_surface_low": surface.ci95["D"][0],
+        "D_surface_high": surface.ci95["D"][1],
+        "G_surface_ratio": surface.G / G_true,
+        "G_surface_covered": bool(G_low <= G_true <= G_high),
+    }
+
+
+def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, models, progress) -> list[dict]:
     import equinox as eqx
 
     from jaxcontact import fitting
 
     from ..bem import BEM
     from ..core import solve
-    from ..topography import characterise
+    from ..topography import NoBandError, characterise
 
     size = math.sqrt(float(scene.area))
     G_true = float(scene.surface.G)
@@ -89,18 +119,15 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, prior
             right = BEM(grid=4 * divisions, realisations=1, seed=seed)
             clean = np.asarray(solve(truth.with_model(right), F).stiffness)
             K = clean * np.exp(noise * np.random.default_rng(seed).standard_normal(len(F)))
-            surface = characterise(surface_map(truth, right))
-            G_low, G_high = surface.ci95["G"]
-            own = {
-                "D_surface": surface.D,
-                "D_surface_low": surface.ci95["D"][0],
-                "D_surface_high": surface.ci95["D"][1],
-                "G_surface_ratio": surface.G / G_true,
-                "G_surface_covered": bool(G_low <= G_true <= G_high),
-            }
-            for label, options in FIT_MODELS.items():
+            try:
+                surface = characterise(surface_map(truth, right))
+            except NoBandError:
+                surface = None
+            own = _own(surface, G_true)
+            for label in models:
+                options = FIT_MODELS[label]
                 model_scene = truth.with_model(right) if options is None else truth.with_model(**options)
-                for prior in priors:
+                for prior in priors if surface is not None else [p for p in priors if not p]:
                     begin = (start[0], start[1] * G_true) if not prior else (surface.D, surface.G)
                     begin = eqx.tree_at(
                         lambda s: (s.surface.D, s.surface.G), model_scene, tuple(np.asarray(x, float) for x in begin)
@@ -152,7 +179,7 @@ def bem_fit_table(rows) -> str:
         f"{'describes':>10} {'D covered':>10} {'G covered':>10} {'success':>8} {'on bound':>9}"
     ]
     for D in sorted({r["D_true"] for r in rows}):
-        first = {r["seed"]: r for r in rows if r["D_true"] == D}.values()
+        first = [r for r in {r["seed"]: r for r in rows if r["D_true"] == D}.values() if np.isfinite(r["D_surface"])]
         values = np.array([r["D_surface"] for r in first])
         half = np.array([(r["D_surface_high"] - r["D_surface_low"]) / 2 for r in first])
         covered = sum(r["D_surface_low"] <= D <= r["D_surface_high"] for r in first)
@@ -161,7 +188,7 @@ def bem_fit_table(rows) -> str:
             f"{np.nanmean(half):>9.3f} {'–':>10} {covered:>6}/{len(first)} "
             f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)} {'–':>8} {'–':>9}"
         )
-        for label in FIT_MODELS:
+        for label in [m for m in FIT_MODELS if any(r["model"] == m for r in rows)]:
             for prior in sorted({r["prior"] for r in rows}):
                 sel = [r for r in rows if r["D_true"] == D and r["model"] == label and r["prior"] == prior]
                 values = np.array([r["D"] for r in sel])
