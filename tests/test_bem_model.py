@@ -122,17 +122,21 @@ def test_plasticity_lowers_the_stiffness(scene):
     assert np.all(plastic < elastic)
 
 
-def test_a_fit_to_its_own_curve_recovers_D_and_G(scene):
-    """Noiseless, one realisation on 64²: the model fitted to its own curve (as users call the fit)
-    returns its D and G."""
+# The study's surface is elastic by a hardness far below any metal's (`studies._plasticity.elastic`).
+@pytest.mark.filterwarnings("ignore::jaxcontact.numerics._validate.PlausibilityWarning")
+def test_a_fit_to_its_own_curve_recovers_D_and_G():
+    """Noiseless, the fits study's surface of seed 0 (one realisation on 64², 8 loads; its compiled
+    programs are the study's): the model fitted to its own curve (as users call the fit) returns its
+    D and G."""
     from jaxcontact import fitting
+    from jaxcontact.studies._bem_fits import study_truth
 
-    truth = small_scene(realisations=1)
-    loads = np.geomspace(5e-5, 1e-3, 6) * UNIT
+    truth, loads = study_truth(make_scene(**BEM_SETTING), 1.5)
+    truth = truth.with_model(jc.BEM(grid=64, realisations=1, seed=0))
     stiffness = np.asarray(jc.solve(truth, loads).stiffness)
     start = eqx.tree_at(lambda s: (s.surface.D, s.surface.G), truth, (1.45, 2e-12))
     result = fitting.fit(loads, stiffness, start, params=("D", "G"), n_starts=1)
-    np.testing.assert_allclose([result.values["D"], result.values["G"]], [SMALL["D"], SMALL["G"]], rtol=1e-3)
+    np.testing.assert_allclose([result.values["D"], result.values["G"]], [1.5, BEM_SETTING["G"]], rtol=1e-3)
 
 
 @pytest.fixture(scope="module")
@@ -223,15 +227,15 @@ def test_the_default_secant_is_smooth_enough_for_a_gradient_to_fit(scene):
 
 @pytest.fixture(scope="module")
 def study_fits():
-    """The fits study (`compare --fits`) at D = 1.5 on its first two seeds, the BEM model alone."""
+    """The fits study (`compare --fits`) at D = 1.5 on its first seed, the BEM model alone (each seed
+    is a program of its own: coverage over 20 seeds at each of D = 1.3, 1.5, 1.7 is the study's,
+    docs/fitting.md)."""
     from jaxcontact.studies._bem_fits import bem_fit_rows
 
-    return bem_fit_rows(make_scene(**BEM_SETTING), Ds=(1.5,), seeds=range(2), models=("bem",))
+    return bem_fit_rows(make_scene(**BEM_SETTING), Ds=(1.5,), seeds=range(1), models=("bem",))
 
 
 @pytest.mark.parametrize("prior", [False, True], ids=["curve alone", "with the map's prior"])
-def test_the_bem_models_intervals_hold_the_true_d(study_fits, prior):
-    """Coverage over 20 seeds at each of D = 1.3, 1.5, 1.7 is the study's (docs/fitting.md)."""
-    rows = [r for r in study_fits if r["prior"] == prior]
-    assert len(rows) == 2
-    assert all(r["D_low"] <= 1.5 <= r["D_high"] for r in rows), [(r["D_low"], r["D_high"]) for r in rows]
+def test_the_bem_models_interval_holds_the_true_d(study_fits, prior):
+    (row,) = [r for r in study_fits if r["prior"] == prior]
+    assert row["D_low"] <= 1.5 <= row["D_high"], (row["D_low"], row["D_high"])

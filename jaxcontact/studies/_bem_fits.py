@@ -99,6 +99,24 @@ def _own(surface, G_true) -> dict:
     }
 
 
+def study_truth(scene, D: float, divisions: int = 16, loads: int = 8, fractions=(0.005, 0.15)):
+    """The study's elastic surface of dimension `D` (l_min = L/`divisions`) from `scene`, and its
+    `loads` loads (N) where Persson's contact area spans `fractions`."""
+    import warnings
+
+    import equinox as eqx
+
+    from ..numerics._validate import PlausibilityWarning
+
+    size = math.sqrt(float(scene.area))
+    values = tuple(np.asarray(x, float) for x in (D, size / divisions))
+    # The seed model's elastic limit is a hardness far below what metals have (`elastic`).
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        truth = elastic(eqx.tree_at(lambda s: (s.surface.D, s.surface.l_min), scene, values))
+        return truth, loads_for_fractions(truth, np.geomspace(*fractions, loads))
+
+
 def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, priors, models, progress) -> list[dict]:
     import equinox as eqx
 
@@ -108,13 +126,10 @@ def _fit_rows(scene, Ds, seeds, divisions, loads, fractions, noise, start, prior
     from ..core import solve
     from ..topography import NoBandError, characterise
 
-    size = math.sqrt(float(scene.area))
     G_true = float(scene.surface.G)
     rows, done, total = [], 0, len(Ds) * len(seeds)
     for D in Ds:
-        values = tuple(np.asarray(x, float) for x in (D, size / divisions))
-        truth = elastic(eqx.tree_at(lambda s: (s.surface.D, s.surface.l_min), scene, values))
-        F = loads_for_fractions(truth, np.geomspace(*fractions, loads))
+        truth, F = study_truth(scene, D, divisions, loads, fractions)
         for seed in seeds:
             right = BEM(grid=4 * divisions, realisations=1, seed=seed)
             clean = np.asarray(solve(truth.with_model(right), F).stiffness)
