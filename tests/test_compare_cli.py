@@ -128,3 +128,12 @@ def test_a_map_whose_form_carries_the_load_gets_a_note(measured_map, capsys, tmp
     argv = ["compare", "--topography", str(tmp_path / "domed.txt"), *MAP_ARGV, "--form", "mean", "--format", "json"]
     assert main([*argv, "--out", str(tmp_path)]) == 0
     assert json.loads(capsys.readouterr().out)["notes"][0].startswith("note: K_BEM ∝ F^0.6")
+
+
+def test_an_unknown_fit_model_is_one_line_naming_the_option(tmp_path, capsys):
+    assert main(["compare", "--fits", "--fit-models", "bem,nope", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "jaxcontact compare: error: --fit-models 'bem,nope': each must be one of bem, persson, gw, "
+        "xia2024 sneddon, xia2024 none"
+    ]

@@ -24,13 +24,14 @@ FIT_MODELS = {
 
 
 def fit_models(names: str | None) -> tuple[str, ...]:
-    """The labels of `FIT_MODELS` named in `names` (comma-separated; None: all of them)."""
+    """The labels of `FIT_MODELS` named in `names`, the command line's `--fit-models` (comma-separated;
+    None: all of them)."""
     if names is None:
         return tuple(FIT_MODELS)
     chosen = tuple(name.strip() for name in names.split(","))
     unknown = [name for name in chosen if name not in FIT_MODELS]
     if unknown or not chosen:
-        raise InputError(f"fit models = {names!r}: each must be one of {', '.join(FIT_MODELS)}")
+        raise InputError(f"--fit-models {names!r}: each must be one of {', '.join(FIT_MODELS)}")
     return chosen
 
 
