@@ -137,3 +137,16 @@ def test_an_unknown_fit_model_is_one_line_naming_the_option(tmp_path, capsys):
         "jaxcontact compare: error: --fit-models 'bem,nope': each must be one of bem, persson, gw, "
         "xia2024 sneddon, xia2024 none"
     ]
+
+
+def test_the_fits_table_of_maps_without_a_power_law_band_says_so():
+    """A seed whose map has no power-law band has no prior: its table has the curve-alone row only."""
+    import math
+
+    from jaxcontact.studies._bem_fits import bem_fit_table
+
+    nan = dict.fromkeys(("D_surface", "D_surface_low", "D_surface_high", "G_surface_ratio"), math.nan)
+    row = dict(D_true=1.5, seed=15, model="bem", prior=False, D=1.49, D_low=1.4, D_high=1.6, covered=True)
+    row |= dict(G_ratio=1.0, G_covered=True, success=True, on_bound=False, describes_data=True, seconds=1.0)
+    lines = bem_fit_table([row | nan | {"G_surface_covered": False}]).splitlines()
+    assert [line.split()[1:4] for line in lines[1:]] == [["surface", "alone", "–"], ["bem", "no", "1.490"]]

@@ -199,14 +199,19 @@ def bem_fit_table(rows) -> str:
         values = np.array([r["D_surface"] for r in first])
         half = np.array([(r["D_surface_high"] - r["D_surface_low"]) / 2 for r in first])
         covered = sum(r["D_surface_low"] <= D <= r["D_surface_high"] for r in first)
-        lines.append(
-            f"{D:>4} {'surface alone':>16} {'–':>6} {values.mean():>10.3f} ({values.min():.3f}–{values.max():.3f})"
-            f"{np.nanmean(half):>9.3f} {'–':>10} {covered:>6}/{len(first)} "
-            f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)} {'–':>8} {'–':>9}"
-        )
+        if not first:
+            lines.append(f"{D:>4} {'surface alone':>16} {'–':>6}   no map with a power-law band")
+        else:
+            lines.append(
+                f"{D:>4} {'surface alone':>16} {'–':>6} {values.mean():>10.3f} ({values.min():.3f}–{values.max():.3f})"
+                f"{np.nanmean(half):>9.3f} {'–':>10} {covered:>6}/{len(first)} "
+                f"{sum(r['G_surface_covered'] for r in first):>6}/{len(first)} {'–':>8} {'–':>9}"
+            )
         for label in [m for m in FIT_MODELS if any(r["model"] == m for r in rows)]:
             for prior in sorted({r["prior"] for r in rows}):
                 sel = [r for r in rows if r["D_true"] == D and r["model"] == label and r["prior"] == prior]
+                if not sel:  # no map of this D had a prior
+                    continue
                 values = np.array([r["D"] for r in sel])
                 half = np.array([(r["D_high"] - r["D_low"]) / 2 for r in sel])
                 lines.append(
