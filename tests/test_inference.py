@@ -109,7 +109,7 @@ def test_the_report_says_how_much_came_from_the_curve(table1_without_interaction
 
 @pytest.fixture(scope="module")
 def half_informed(table1_without_interaction):
-    """A curve of 8 points and a prior on D that each carry part of D's information."""
+    """A curve of 20 points and a prior on D that each carry about half of D's information."""
     loads, K = synthetic_curve(table1_without_interaction, TABLE1_F_STAR[::2], noise=0.05, seed=5)
     prior = {"D": fitting.Normal(TRUTH["D"], 0.002)}
     return loads, K, prior, fitting.fit(loads, K, make_scene(**START), n_starts=4, prior=prior)
