@@ -14,6 +14,8 @@ COLUMNS = (
     "K_bem_spread",
     "map_bem_over_bem",
     "persson_spectrum_over_bem",
+    "spectrum_band_low_over_bem",
+    "spectrum_band_high_over_bem",
     "gw_spectrum_over_bem",
     "persson_power_law_over_bem",
     "power_law_band_low_over_bem",

@@ -7,8 +7,9 @@ area. At loads where Persson's theory on that spectrum puts the contact at each 
 
 - the BEM on `realisations` periodic realisations of the same spectrum (`BEM(spectrum=...)`): their
   mean K, its spread and their contact fraction;
-- Persson and GW on the spectrum, and Persson on the power-law route (the fitted D and G, l_min at
-  the same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean;
+- Persson and GW on the spectrum, Persson's 95 % band from the spectrum's own uncertainty
+  (`topography.spectrum_band`), and Persson on the power-law route (the fitted D and G, l_min at the
+  same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean;
 - the BEM on the map itself, made periodic by its mirror images: the largest square of it (square
   pixels only), mirrored, Fourier-truncated to `2 grid` points a side (so that it holds wavelengths
   down to 2 grid spacings of the square, shorter than the table's cut), at the same nominal pressure.
@@ -74,7 +75,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     from ..numerics import InputError
     from ..physics import MeasuredSpectrum
     from ..quantities import Material, Surface
-    from ..topography import Curvature, characterise, read, separate, stiffness_band
+    from ..topography import Curvature, characterise, read, separate, spectrum_band, stiffness_band
     from ._compare import loads_for_fractions
 
     topography = read(path, fill_undefined=True)
@@ -107,6 +108,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     persson = solve(measured, loads)
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
     band = stiffness_band(c, scene.with_model(Persson()), loads)
+    own = spectrum_band(measured, loads)
     mean = K.mean(axis=0)
     mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
     mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
@@ -124,6 +126,8 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
             "K_bem_spread": float(K[:, i].std() / mean[i]),
             "map_bem_over_bem": float(mirrored[i] / mean[i]),
             "persson_spectrum_over_bem": float(persson.stiffness[i] / mean[i]),
+            "spectrum_band_low_over_bem": float(own.lower[i] / mean[i]),
+            "spectrum_band_high_over_bem": float(own.upper[i] / mean[i]),
             "gw_spectrum_over_bem": float(gw.stiffness[i] / mean[i]),
             "persson_power_law_over_bem": float(band.stiffness[i] / mean[i]),
             "power_law_band_low_over_bem": float(band.lower[i] / mean[i]),
