@@ -105,10 +105,10 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     ]
     K = np.array([np.asarray(b.stiffness) for b in bem])
     area = np.array([np.asarray(b.real_area) for b in bem]) / (side * side)
-    persson = solve(measured, loads)
+    # Persson on the measured spectrum, with its band from the spectrum's own uncertainty.
+    persson = spectrum_band(measured, loads)
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
     band = stiffness_band(c, scene.with_model(Persson()), loads)
-    own = spectrum_band(measured, loads)
     mean = K.mean(axis=0)
     mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
     mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
@@ -126,8 +126,8 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
             "K_bem_spread": float(K[:, i].std() / mean[i]),
             "map_bem_over_bem": float(mirrored[i] / mean[i]),
             "persson_spectrum_over_bem": float(persson.stiffness[i] / mean[i]),
-            "spectrum_band_low_over_bem": float(own.lower[i] / mean[i]),
-            "spectrum_band_high_over_bem": float(own.upper[i] / mean[i]),
+            "spectrum_band_low_over_bem": float(persson.lower[i] / mean[i]),
+            "spectrum_band_high_over_bem": float(persson.upper[i] / mean[i]),
             "gw_spectrum_over_bem": float(gw.stiffness[i] / mean[i]),
             "persson_power_law_over_bem": float(band.stiffness[i] / mean[i]),
             "power_law_band_low_over_bem": float(band.lower[i] / mean[i]),
