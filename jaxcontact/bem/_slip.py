@@ -158,9 +158,9 @@ def _loops(heights, size, modulus, load, mu, forces, nu, hardness, substrate, no
 
     def frozen(level, traction, guess):
         stuck, slid = sets(traction)
-        return frozen_solution(problem.tangential, zeros, level, limit, stuck, slid, traction, guess, tolerance, False)[
-            1
-        ]
+        args = (zeros, level, limit, stuck, slid, traction, guess, tolerance)
+        _, offset, _ = frozen_solution(problem.tangential, *args, fixed_compliance=False)
+        return offset
 
     offsets = jax.lax.map(lambda a: frozen(*a), (levels, tractions, guesses))
     shape = (amplitudes.size, nodes + 1)
