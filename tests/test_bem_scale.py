@@ -1,12 +1,14 @@
 """The BEM at scale: the Fourier-preconditioned constrained iteration against Polonsky & Keer's plain
 one (the same solution to the tolerance, elastic, capped and on a free half-space, in a fraction of the
-iterations), and a map sharded over several devices against one device."""
+iterations), and a map split over several devices (a distributed FFT) against one device."""
 
 import functools
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import refused_type
 
 from jaxcontact import bem
 
@@ -72,33 +74,94 @@ os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=4"
 import json, jax, jax.numpy as jnp, numpy as np
 jax.config.update("jax_enable_x64", True)
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
+from helpers import refused_type
+
 from jaxcontact import bem
-h = np.random.default_rng(0).normal(size=(64, 64)) * 1e-6
-loads = jnp.array([2e-3, 8e-3]) * 1e11 * 1e-6
-alone = bem.solve(jnp.asarray(h), 1e-3, 1e11, loads)
+L, E = 1e-3, 1e11
+h = jnp.asarray(bem.realisation(1.5, 1e-12, L / 16, L, 64, 0).heights())
 mesh = Mesh(np.array(jax.devices()), ("rows",))
-sharded = bem.solve(jax.device_put(h, NamedSharding(mesh, PartitionSpec("rows", None))), 1e-3, 1e11, loads)
-print(json.dumps([np.asarray(x).tolist() for x in (alone.offset, sharded.offset, alone.stiffness, sharded.stiffness)]))
+fft = bem.DistributedFFT(mesh, "rows")
+loads = jnp.array([0.5, 4.0]) * 1e-4 * E * L * L
+out = {}
+# The capped periodic case (elastic and plastic points) and the free one (the padded grid).
+for name, substrate, hardness in (("capped", bem.Periodic(), 1.5e8), ("free", bem.Free(), None)):
+    solve = lambda heights, fft: bem.solve(heights, L, E, loads, hardness=hardness, substrate=substrate, fft=fft)
+    alone, split = solve(h, bem.LocalFFT()), solve(h, fft)
+    out[name] = [np.asarray(x).tolist() for x in (alone.offset, split.offset, alone.stiffness, split.stiffness)]
+    out[name + " plastic"] = float(alone.plastic_fraction[-1])
+offset = lambda heights, fft: jnp.sum(bem.solve(heights, L, E, loads, hardness=1.5e8, fft=fft).offset)
+alone, split = jax.grad(offset)(h, bem.LocalFFT()), jax.grad(offset)(h, fft)
+out["gradient"] = [np.asarray(alone).tolist(), np.asarray(split).tolist()]
+out["gradient sharding"] = split.sharding.spec[0]
+# Heights sharded by the user with the FFTs left to XLA's partitioner: the same solve.
+user = bem.solve(jax.device_put(h, NamedSharding(mesh, PartitionSpec("rows", None))), L, E, loads)
+out["partitioner"] = [np.asarray(x).tolist() for x in (bem.solve(h, L, E, loads).offset, user.offset)]
+try:
+    bem.solve(h[:62, :62], L, E, loads, fft=fft)
+except ValueError as error:
+    out["refused"] = str(error)
+print(json.dumps(out))
 """
 
 
 @pytest.fixture(scope="module")
-def sharded_and_alone():
-    """A 64² map's solve with the heights sharded by rows over 4 (host) devices, and alone: in a process
-    of its own, since the device count is fixed when JAX starts."""
+def sharded():
+    """A 64² map solved with its rows split over 4 (host) devices by `bem.DistributedFFT`, and on one:
+    in a process of its own, since the device count is fixed when JAX starts."""
     import json
     import subprocess
     import sys
 
     out = subprocess.run([sys.executable, "-c", _SHARDED], capture_output=True, text=True, check=True).stdout
-    return [np.asarray(x) for x in json.loads(out.strip().splitlines()[-1])]
+    return json.loads(out.strip().splitlines()[-1])
 
 
-def test_a_solve_of_sharded_heights_gives_the_offsets_of_one_device(sharded_and_alone):
-    alone, sharded, _, _ = sharded_and_alone
-    np.testing.assert_allclose(sharded, alone, rtol=1e-10)
+def test_the_distributed_solve_reaches_the_cap(sharded):
+    assert sharded["capped plastic"] > 0.01
 
 
-def test_a_solve_of_sharded_heights_gives_the_stiffness_of_one_device(sharded_and_alone):
-    _, _, alone, sharded = sharded_and_alone
-    np.testing.assert_allclose(sharded, alone, rtol=1e-10)
+@pytest.mark.parametrize("case", ["capped", "free"])
+def test_a_distributed_fft_gives_the_offsets_of_one_device(sharded, case):
+    alone, split, _, _ = sharded[case]
+    np.testing.assert_allclose(split, alone, rtol=1e-10)
+
+
+@pytest.mark.parametrize("case", ["capped", "free"])
+def test_a_distributed_fft_gives_the_stiffness_of_one_device(sharded, case):
+    _, _, alone, split = sharded[case]
+    np.testing.assert_allclose(split, alone, rtol=1e-10)
+
+
+def test_the_distributed_gradient_is_one_devices(sharded):
+    alone, split = sharded["gradient"]
+    np.testing.assert_allclose(split, alone, rtol=1e-10, atol=1e-12 * np.max(np.abs(alone)))
+
+
+def test_the_distributed_gradient_stays_split_by_rows(sharded):
+    assert sharded["gradient sharding"] == "rows"
+
+
+def test_heights_sharded_by_the_user_give_the_offsets_of_one_device(sharded):
+    alone, user = sharded["partitioner"]
+    np.testing.assert_allclose(user, alone, rtol=1e-10)
+
+
+def test_a_side_that_does_not_split_over_the_devices_is_refused_with_the_count(sharded):
+    assert "n = 62 is not a multiple of the 4 devices" in sharded["refused"]
+
+
+def test_a_distributed_fft_needs_a_mesh():
+    with refused_type("mesh", "mesh = 'rows' is not a jax.sharding.Mesh"):
+        bem.DistributedFFT("rows")
+
+
+def test_a_distributed_fft_names_the_meshs_axes():
+    from jax.sharding import Mesh
+
+    with pytest.raises(ValueError, match=r"axis = 'rows' is not an axis of the mesh: valid are \('x',\)"):
+        bem.DistributedFFT(Mesh(np.array(jax.devices()[:1]), ("x",)), "rows")
+
+
+def test_the_fft_is_an_object():
+    with refused_type("fft", "fft = 'distributed' must be bem.LocalFFT"):
+        bem.solve(jnp.ones((8, 8)), L, E, jnp.array([1.0]), fft="distributed")

@@ -13,6 +13,7 @@ scene's surface and reports their mean, spread and the grid's convergence, cache
 from ..models import register_model
 from ._cache import CacheWarning, ResultCache, default_directory
 from ._contact import ContactSolution, solve
+from ._fft import AbstractFFT, DistributedFFT, LocalFFT
 from ._layer import AbstractLayer, TabulatedLayer, WinklerLayer
 from ._layered import LayeredSolution, solve_layered
 from ._model import BEM
@@ -25,16 +26,19 @@ from ._surfaces import check_grid, coarsened, synthesised_surface
 
 __all__ = [
     "SUBSTRATES",
+    "AbstractFFT",
     "AbstractLayer",
     "AbstractSubstrate",
     "BEM",
     "BEMResult",
     "BEMSettings",
     "CacheWarning",
+    "DistributedFFT",
     "ContactSolution",
     "Free",
     "FrictionLoops",
     "LayeredSolution",
+    "LocalFFT",
     "Periodic",
     "PathSolution",
     "REFERENCES",

@@ -16,10 +16,11 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..models import CLOSED_INTERFACE
-from ..numerics._validate import check_range, check_strategy
+from ..numerics._validate import InputError, check_range, check_strategy
 from ..quantities import Status
 from ._ccg import contact_cg
 from ._checks import check_arguments, check_iteration, checked_status, stand_in_loads, valid_problem
+from ._fft import AbstractFFT, LocalFFT
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
 from ._problem import GridProblem
 from ._solver import secant_stiffness
@@ -73,6 +74,7 @@ def solve(
     pressure: bool = False,
     secant: float = 0.0,
     preconditioned: bool = True,
+    fft: AbstractFFT = LocalFFT(),
 ) -> ContactSolution:
     """The boundary-element contact of a rough surface at each load (docs/model.md §10).
 
@@ -98,6 +100,10 @@ def solve(
     - `preconditioned`: search along the Fourier-preconditioned gap (`_ccg`; the same solution to
       the tolerance in a fraction of the iterations, nearly independent of the grid), or, False,
       Polonsky & Keer's plain iteration.
+    - `fft`: `LocalFFT()` (the FFTs where the heights are), or `DistributedFFT(mesh, axis)`: the map's
+      rows split over the devices along `axis` of a `jax.sharding.Mesh` and a distributed FFT (two
+      all-to-all exchanges, nothing gathered), for maps too large for one device (n a multiple of
+      the device count). The pressure comes back split so.
 
     **Returns:** a `ContactSolution`. Differentiable (`jax.grad`, `jax.jvp`) with respect to the
     heights, `modulus`, `hardness` and the loads, by implicit differentiation on the contact set
@@ -115,7 +121,10 @@ def solve(
     `max_iterations` < 1.
     """
     check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
+    if not isinstance(fft, AbstractFFT):
+        raise InputError(f"fft = {fft!r} must be bem.LocalFFT() or bem.DistributedFFT(mesh, axis)")
     check_arguments(heights, size, modulus, loads, hardness)
+    fft.check(np.shape(heights)[-1])
     check_iteration(tolerance, max_iterations)
     dtype = jnp.result_type(heights, loads, 1.0)
     if tolerance is None:
@@ -128,7 +137,7 @@ def solve(
         nu = jnp.asarray(poisson, dtype)
     check_range("secant", secant, 0.0, 0.5, low_open=False)
     settings = (float(tolerance), int(max_iterations), bool(pressure), float(secant), bool(preconditioned))
-    return _solve(*arrays, cap, nu, substrate, *settings)
+    return _solve(*arrays, cap, nu, substrate, fft, *settings)
 
 
 def contact_at(problem: GridProblem, total, start, tolerance: float, max_iterations: int) -> dict:
@@ -227,12 +236,14 @@ def sweep_sides(problem: GridProblem, loads, sides, tolerance: float, max_iterat
 
 
 @eqx.filter_jit
-def _solve(heights, size, modulus, loads, hardness, nu, substrate, tolerance, max_iterations, with_pressure, step, pc):
+def _solve(
+    heights, size, modulus, loads, hardness, nu, substrate, fft, tolerance, max_iterations, with_pressure, step, pc
+):
     sound, heights, size, modulus, hardness = valid_problem(heights, size, modulus, hardness)
     if nu is not None:
         sound &= (nu >= 0) & (nu < 0.5)
         nu = jnp.where(sound, nu, 0.3)
-    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc, nu)
+    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc, nu, fft)
     solved, valid = stand_in_loads(loads, 1e-4 * modulus * size * size)
     sides = (-step, 0.0, step) if step > 0 else (0.0,)
     # Each load and, for the secant, its neighbours e^(±step) F.

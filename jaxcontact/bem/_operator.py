@@ -26,6 +26,7 @@ from jaxtyping import Array, Complex, Float
 from ..numerics import cached
 from ..numerics._compat import complex_dtype
 from ..numerics._validate import optional_import
+from ._fft import AbstractFFT, LocalFFT
 
 # What ContactMechanics is imported for (the message naming the missing extra).
 REFERENCE = "the boundary-element reference"
@@ -127,36 +128,26 @@ SUBSTRATES = {"periodic": Periodic, "free": Free}
 
 
 class Compliance(eqx.Module):
-    """`u = C p` on an n × n grid (grid units above), periodic or free. Symmetric positive semidefinite
-    (definite for "free"; for "periodic" its null space is the constant pressure)."""
+    """`u = C p` on an n × n grid (grid units above), periodic or free, its FFTs laid out by `fft`
+    (`_fft`). Symmetric positive semidefinite (definite for "free"; for "periodic" its null space is
+    the constant pressure)."""
 
     kernel: Complex[Array, "rows columns"] | Float[Array, "rows columns"]
     stiffness: Float[Array, "n half"]
     n: int = eqx.field(static=True)
-    padded: bool = eqx.field(static=True)
+    fft: AbstractFFT = LocalFFT()
 
     @classmethod
-    def build(cls, n: int, substrate: AbstractSubstrate, dtype) -> Compliance:
+    def build(cls, n: int, substrate: AbstractSubstrate, dtype, fft: AbstractFFT = LocalFFT()) -> Compliance:
         stiffness = jnp.asarray(_stiffness_kernel(n), dtype)
         kernel = substrate.kernel(n)
         kernel_dtype = complex_dtype(dtype) if np.iscomplexobj(kernel) else dtype
-        return cls(jnp.asarray(kernel, kernel_dtype), stiffness, n, substrate.padded)
+        return cls(jnp.asarray(kernel, kernel_dtype), stiffness, n, fft)
 
     def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:
         """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in
         full contact, and the constrained iteration's preconditioner on its free set (either substrate)."""
-        n = self.n
-        return jnp.fft.irfft2(_times(jnp.fft.rfft2(displacement), self.stiffness), s=(n, n))
+        return self.fft.convolve(displacement, self.stiffness)
 
     def __call__(self, pressure: Float[Array, "n n"]) -> Float[Array, "n n"]:
-        n = self.n
-        if not self.padded:
-            return jnp.fft.irfft2(_times(jnp.fft.rfft2(pressure), self.kernel), s=(n, n))
-        padded = jnp.zeros((2 * n, 2 * n), pressure.dtype).at[:n, :n].set(pressure)
-        return jnp.fft.irfft2(_times(jnp.fft.rfft2(padded), self.kernel), s=(2 * n, 2 * n))[:n, :n]
-
-
-def _times(spectrum, kernel):
-    # The product that standard promotion would form (the real kernel made complex), written out so
-    # that it holds under strict promotion too: the same program.
-    return spectrum * kernel.astype(spectrum.dtype)
+        return self.fft.convolve(pressure, self.kernel)

@@ -7,6 +7,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from ._fft import AbstractFFT, LocalFFT
 from ._operator import AbstractSubstrate, Compliance
 from ._tangential import tangential_compliance
 
@@ -28,11 +29,21 @@ class GridProblem(eqx.Module):
 
     @classmethod
     def build(
-        cls, heights, size, modulus, hardness, substrate: AbstractSubstrate, preconditioned: bool = True, nu=None
+        cls,
+        heights,
+        size,
+        modulus,
+        hardness,
+        substrate: AbstractSubstrate,
+        preconditioned: bool = True,
+        nu=None,
+        fft: AbstractFFT = LocalFFT(),
     ) -> GridProblem:
         """`hardness` None is the elastic contact (known before tracing: the iteration then has no
         plastic branch to carry); `preconditioned`, the iteration's search (`_ccg.contact_cg`); `nu`,
-        None or Poisson's ratio for the tangential stiffness in full stick."""
+        None or Poisson's ratio for the tangential stiffness in full stick; `fft`, where the FFTs run
+        (`_fft`), the heights laid out for it."""
+        heights = fft.place(heights)
         n = heights.shape[-1]
         rms = jax.lax.stop_gradient(jnp.std(heights))
         scale = jnp.where(rms > 0, rms, 1.0)  # a flat map (a punch) is in its own units
@@ -41,7 +52,7 @@ class GridProblem(eqx.Module):
             cap = jnp.asarray(jnp.inf, heights.dtype)
         else:
             cap = hardness * spacing / (modulus * scale)
-        compliance = Compliance.build(n, substrate, heights.dtype)
+        compliance = Compliance.build(n, substrate, heights.dtype, fft)
         tangential = None if nu is None else tangential_compliance(compliance, substrate, nu)
         unit = modulus * spacing
         capped = hardness is not None

@@ -68,4 +68,4 @@ def tangential_compliance(normal: Compliance, substrate: AbstractSubstrate, nu) 
     dtype = normal.kernel.dtype
     weight = jnp.asarray(nu / (1.0 - nu)).astype(dtype)  # a complex kernel (free) is written out as such
     kernel = normal.kernel + weight * jnp.asarray(anisotropy, dtype)
-    return Compliance(kernel, normal.stiffness, n, normal.padded)
+    return Compliance(kernel, normal.stiffness, n, normal.fft)
