@@ -13,14 +13,41 @@ first exchange (rows), never materialised as a padded map.
 from __future__ import annotations
 
 import abc
+import math
+from collections.abc import Callable
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from jaxtyping import Array, Complex, Float
 
+from ..numerics import cached
+from ..numerics._compat import complex_dtype
 from ..numerics._validate import InputError
+
+# A kernel given on the rfft2 grid's wavenumbers `values(kx, ky, xp)` (kx a column over every row,
+# ky a row over the columns, rad per grid spacing), or at the pixel offsets `values(x, y, xp)` of
+# the whole grid (its rfft2 is the kernel); `xp` numpy or jax.numpy.
+Values = Callable
+
+
+def _offsets(indices, rows: int, xp):
+    """Pixel offsets of grid indices on a periodic grid of `rows`: 0..rows/2, then negative."""
+    return xp.where(indices <= rows // 2, indices, indices - rows)
+
+
+@cached
+def _host_spectral(values: Values, rows: int) -> np.ndarray:
+    k = np.fft.fftfreq(rows) * 2 * math.pi
+    return values(k[:, None], np.fft.rfftfreq(rows)[None, :] * 2 * math.pi, np)
+
+
+@cached
+def _host_spatial(values: Values, rows: int) -> np.ndarray:
+    x = _offsets(np.arange(rows), rows, np).astype(float)
+    return np.fft.rfft2(values(x[:, None], x[None, :], np))
 
 
 def _shard_map():
@@ -44,10 +71,19 @@ class AbstractFFT(eqx.Module):
 
     @abc.abstractmethod
     def convolve(
-        self, field: Float[Array, "n n"], kernel: Complex[Array, "rows half"] | Float[Array, "rows half"]
+        self, field: Float[Array, "n n"], kernel: Complex[Array, "rows columns"] | Float[Array, "rows columns"]
     ) -> Float[Array, "n n"]:
-        """`irfft2(rfft2(field) · kernel)` on the kernel's grid (`rows × rows`, `half = rows/2 + 1`),
-        with `field` zero-padded to it where it is larger (a free half-space), cut back to n × n."""
+        """`irfft2(rfft2(field) · kernel)` on the kernel's grid (`rows × rows`; the kernel in this
+        layout, `spectral_kernel`), with `field` zero-padded to it where it is larger (a free
+        half-space), cut back to n × n."""
+
+    @abc.abstractmethod
+    def spectral_kernel(self, values: Values, rows: int, dtype) -> Array:
+        """The kernel `values(kx, ky, xp)` on the rfft2 grid of `rows × rows`, in this layout."""
+
+    @abc.abstractmethod
+    def spatial_kernel(self, values: Values, rows: int, dtype) -> Array:
+        """The rfft2 of `values(x, y, xp)` over the pixel offsets of `rows × rows`, in this layout."""
 
     @abc.abstractmethod
     def place(self, heights: Float[Array, "n n"]) -> Float[Array, "n n"]:
@@ -68,6 +104,12 @@ class LocalFFT(AbstractFFT):
             return jnp.fft.irfft2(_times(jnp.fft.rfft2(field), kernel), s=(n, n))
         padded = jnp.zeros((rows, rows), field.dtype).at[:n, :n].set(field)
         return jnp.fft.irfft2(_times(jnp.fft.rfft2(padded), kernel), s=(rows, rows))[:n, :n]
+
+    def spectral_kernel(self, values, rows, dtype):
+        return jnp.asarray(_host_spectral(values, rows), dtype)
+
+    def spatial_kernel(self, values, rows, dtype):
+        return jnp.asarray(_host_spatial(values, rows), complex_dtype(dtype))
 
     def place(self, heights):
         return heights
@@ -109,21 +151,50 @@ class DistributedFFT(AbstractFFT):
     def place(self, heights):
         return jax.lax.with_sharding_constraint(heights, NamedSharding(self.mesh, PartitionSpec(self.axis, None)))
 
+    def _width(self, rows: int) -> int:
+        """The half spectrum's columns, `rows/2 + 1`, padded to split evenly over the devices."""
+        return -(-(rows // 2 + 1) // self.devices) * self.devices
+
+    def _forward(self, band, rows: int):
+        """A device's band of rows (zero-padded to `rows × rows`) to its columns of the spectrum."""
+        spectrum = jnp.fft.rfft(band, n=rows, axis=1)
+        spectrum = jnp.pad(spectrum, ((0, 0), (0, self._width(rows) - spectrum.shape[1])))
+        spectrum = jax.lax.all_to_all(spectrum, self.axis, split_axis=1, concat_axis=0, tiled=True)
+        return jnp.fft.fft(spectrum, n=rows, axis=0)
+
+    def _mapped(self, local, inputs, outputs):
+        rows_spec, columns_spec = PartitionSpec(self.axis, None), PartitionSpec(None, self.axis)
+        specs = {"rows": rows_spec, "columns": columns_spec}
+        in_specs, out_specs = tuple(specs[i] for i in inputs), specs[outputs]
+        return _shard_map()(local, mesh=self.mesh, in_specs=in_specs, out_specs=out_specs)
+
+    def spectral_kernel(self, values, rows, dtype):
+        half, block = rows // 2 + 1, self._width(rows) // self.devices
+        k = jnp.asarray(np.fft.fftfreq(rows) * 2 * math.pi, dtype)
+
+        def local():
+            columns = jax.lax.axis_index(self.axis) * block + jnp.arange(block)
+            kernel = values(k[:, None], (columns * (2 * math.pi / rows)).astype(dtype)[None, :], jnp)
+            return jnp.where(columns[None, :] < half, kernel, 0.0).astype(dtype)
+
+        return self._mapped(local, (), "columns")()
+
+    def spatial_kernel(self, values, rows, dtype):
+        band = rows // self.devices
+        y = jnp.asarray(_offsets(np.arange(rows), rows, np), dtype)
+
+        def local():
+            x = _offsets(jax.lax.axis_index(self.axis) * band + jnp.arange(band), rows, jnp).astype(dtype)
+            return self._forward(values(x[:, None], y[None, :], jnp), rows)
+
+        return self._mapped(local, (), "columns")()
+
     def convolve(self, field, kernel):
         n, rows = field.shape[0], kernel.shape[0]
-        half, devices, axis = kernel.shape[1], self.devices, self.axis
-        width = -(-half // devices) * devices  # the half spectrum's columns, padded to split evenly
-        kernel = jnp.pad(kernel, ((0, 0), (0, width - half)))
 
         def local(band, kernel_columns):
-            spectrum = jnp.fft.rfft(band, n=rows, axis=1)  # zero-pads the columns of a free map
-            spectrum = jnp.pad(spectrum, ((0, 0), (0, width - half)))
-            spectrum = jax.lax.all_to_all(spectrum, axis, split_axis=1, concat_axis=0, tiled=True)
-            spectrum = jnp.fft.fft(spectrum, n=rows, axis=0)  # and its rows
-            spectrum = jnp.fft.ifft(_times(spectrum, kernel_columns), axis=0)[:n]
-            spectrum = jax.lax.all_to_all(spectrum, axis, split_axis=0, concat_axis=1, tiled=True)
-            return jnp.fft.irfft(spectrum[:, :half], n=rows, axis=1)[:, :n]
+            spectrum = jnp.fft.ifft(_times(self._forward(band, rows), kernel_columns), axis=0)[:n]
+            spectrum = jax.lax.all_to_all(spectrum, self.axis, split_axis=0, concat_axis=1, tiled=True)
+            return jnp.fft.irfft(spectrum[:, : rows // 2 + 1], n=rows, axis=1)[:, :n]
 
-        rows_spec, columns_spec = PartitionSpec(axis, None), PartitionSpec(None, axis)
-        mapped = _shard_map()(local, mesh=self.mesh, in_specs=(rows_spec, columns_spec), out_specs=rows_spec)
-        return mapped(field, kernel)
+        return self._mapped(local, ("rows", "columns"), "rows")(field, kernel)

@@ -19,12 +19,8 @@ import math
 from typing import ClassVar
 
 import equinox as eqx
-import jax.numpy as jnp
-import numpy as np
 from jaxtyping import Array, Complex, Float
 
-from ..numerics import cached
-from ..numerics._compat import complex_dtype
 from ..numerics._validate import optional_import
 from ._fft import AbstractFFT, LocalFFT
 
@@ -32,60 +28,53 @@ from ._fft import AbstractFFT, LocalFFT
 REFERENCE = "the boundary-element reference"
 
 
-@cached
-def _periodic_kernel(n: int) -> np.ndarray:
-    """`2/|q|` on the rfft2 grid of an n × n map (q in rad per grid spacing), 0 at q = 0."""
-    k = np.fft.fftfreq(n) * 2 * math.pi
-    k_half = np.fft.rfftfreq(n) * 2 * math.pi
-    q = np.sqrt(k[:, None] ** 2 + k_half[None, :] ** 2)
-    with np.errstate(divide="ignore"):
-        kernel = np.where(q > 0, 2.0 / q, 0.0)
-    return kernel
+# The kernels as functions of the wavenumbers (rad per grid spacing: a column `kx` over every row of
+# the rfft2 grid, a row `ky` over its columns) or of the pixel offsets (`x`, `y`, on the transform's
+# whole grid), in the array namespace `xp`: numpy on one device, jax.numpy on each device's share
+# (`_fft`).
 
 
-@cached
-def _free_kernel(n: int) -> np.ndarray:
-    """The rfft2 of Love's pixel kernel on the 2n × 2n grid (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
+def inverse_wavenumber(kx, ky, xp):
+    """`2/|q|`, the periodic compliance's point Green's function, 0 at q = 0."""
+    q = xp.sqrt(kx**2 + ky**2)
+    return xp.where(q > 0, 2.0 / xp.where(q > 0, q, 1.0), 0.0)
+
+
+def half_wavenumber(kx, ky, xp):
+    """`|q|/2`, the periodic compliance's inverse, with the q = 0 entry (where the compliance is 0)
+    set to the smallest nonzero value, so that it is definite."""
+    compliance = inverse_wavenumber(kx, ky, xp)
+    smallest = 2 * math.pi / kx.shape[0] / 2
+    return xp.where(compliance > 0, 1.0 / xp.where(compliance > 0, compliance, 1.0), smallest)
+
+
+def love_pixel(x, y, xp):
+    """Love's displacement at offset (x, y) from a unit pressure on a unit square pixel (Johnson 1985,
+    Eq. 3.25, over π), in grid spacings (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
     a = b = 0.5
-    i = np.arange(2 * n)
-    x = np.where(i <= n, i, i - 2 * n).astype(float)[:, None]
-    y = np.where(i <= n, i, i - 2 * n).astype(float)[None, :]
 
     def term(s, t, u, v):
-        return s * np.log((t + np.sqrt(t * t + s * s)) / (u + np.sqrt(u * u + v * v)))
+        return s * xp.log((t + xp.sqrt(t * t + s * s)) / (u + xp.sqrt(u * u + v * v)))
 
-    real = (
+    return (
         term(x + a, y + b, y - b, x + a)
         + term(y + b, x + a, x - a, y + b)
         + term(x - a, y - b, y + b, x - a)
         + term(y - b, x - a, x + a, y - b)
     ) / math.pi
-    return np.fft.rfft2(real)
-
-
-@cached
-def _stiffness_kernel(n: int) -> np.ndarray:
-    """`|q|/2` on the rfft2 grid of an n × n map, the periodic compliance's inverse, with the q = 0
-    entry (where the compliance is 0) set to the smallest nonzero value, so that it is definite."""
-    kernel = _periodic_kernel(n)
-    inverse = np.where(kernel > 0, 1.0 / np.where(kernel > 0, kernel, 1.0), 0.0)
-    inverse[0, 0] = 2 * math.pi / n / 2
-    return inverse
 
 
 class AbstractSubstrate(eqx.Module):
     """The elastic half-space under a map: how the map's edges are treated.
 
-    **Class attributes:** `name` (reports, cache keys, the command line's `--substrate`), `padded`
-    (whether the grid is doubled in each direction).
+    **Class attributes:** `name` (reports, cache keys, the command line's `--substrate`).
     """
 
     name: eqx.AbstractClassVar[str]
-    padded: eqx.AbstractClassVar[bool]
 
     @abc.abstractmethod
-    def kernel(self, n: int) -> np.ndarray:
-        """The compliance's rfft2 kernel for an n × n map (grid units; 2n × 2n where `padded`)."""
+    def kernel(self, n: int, fft: AbstractFFT, dtype):
+        """The compliance's kernel for an n × n map (grid units), in `fft`'s layout."""
 
     @abc.abstractmethod
     def reference(self, topography, modulus: float):
@@ -97,10 +86,9 @@ class Periodic(AbstractSubstrate):
     (ContactMechanics's `PeriodicFFTElasticHalfSpace` with `stiffness_q0 = 0`)."""
 
     name: ClassVar[str] = "periodic"
-    padded: ClassVar[bool] = False
 
-    def kernel(self, n: int) -> np.ndarray:
-        return _periodic_kernel(n)
+    def kernel(self, n: int, fft: AbstractFFT, dtype):
+        return fft.spectral_kernel(inverse_wavenumber, n, dtype)
 
     def reference(self, topography, modulus: float):
         cm = optional_import("ContactMechanics", REFERENCE)
@@ -113,10 +101,9 @@ class Free(AbstractSubstrate):
     direction (ContactMechanics's `FreeFFTElasticHalfSpace`)."""
 
     name: ClassVar[str] = "free"
-    padded: ClassVar[bool] = True
 
-    def kernel(self, n: int) -> np.ndarray:
-        return _free_kernel(n)
+    def kernel(self, n: int, fft: AbstractFFT, dtype):
+        return fft.spatial_kernel(love_pixel, 2 * n, dtype)
 
     def reference(self, topography, modulus: float):
         cm = optional_import("ContactMechanics", REFERENCE)
@@ -139,10 +126,8 @@ class Compliance(eqx.Module):
 
     @classmethod
     def build(cls, n: int, substrate: AbstractSubstrate, dtype, fft: AbstractFFT = LocalFFT()) -> Compliance:
-        stiffness = jnp.asarray(_stiffness_kernel(n), dtype)
-        kernel = substrate.kernel(n)
-        kernel_dtype = complex_dtype(dtype) if np.iscomplexobj(kernel) else dtype
-        return cls(jnp.asarray(kernel, kernel_dtype), stiffness, n, fft)
+        stiffness = fft.spectral_kernel(half_wavenumber, n, dtype)
+        return cls(substrate.kernel(n, fft, dtype), stiffness, n, fft)
 
     def inverse(self, displacement: Float[Array, "n n"]) -> Float[Array, "n n"]:
         """The periodic compliance's inverse (`|q|/2` by FFT, definite): exact for a periodic map in

@@ -24,48 +24,37 @@ import math
 import jax.numpy as jnp
 import numpy as np
 
-from ..numerics import cached
 from ._operator import AbstractSubstrate, Compliance, Free
 
 
-@cached
-def _periodic_anisotropy(n: int) -> np.ndarray:
-    """`(2/|q|) q_y²/|q|²` on the rfft2 grid of an n × n map (x along the rows), 0 at q = 0."""
-    k = np.fft.fftfreq(n) * 2 * math.pi
-    k_half = np.fft.rfftfreq(n) * 2 * math.pi
-    q2 = k[:, None] ** 2 + k_half[None, :] ** 2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(q2 > 0, 2.0 * k_half[None, :] ** 2 / q2**1.5, 0.0)
+def shear_wavenumber(kx, ky, xp):
+    """`(2/|q|) q_y²/|q|²` on the rfft2 grid (x along the rows), 0 at q = 0 (`_operator`'s wavenumbers)."""
+    q2 = kx**2 + ky**2
+    return xp.where(q2 > 0, 2.0 * ky**2 / xp.where(q2 > 0, q2, 1.0) ** 1.5, 0.0)
 
 
-def pixel_anisotropy(x, y) -> np.ndarray:
+def pixel_anisotropy(x, y, xp=np):
     """`(1/π) ∫∫ s²/(s² + t²)^{3/2}` over the unit square centred on (x, y) (s along x), in grid
     spacings: the corners' alternating sum of `t asinh(s/|t|)`. Corners never have t = 0 for the
     integer centres of a grid."""
 
     def corner(s, t):
-        return t * np.arcsinh(s / np.abs(t))
+        return t * xp.arcsinh(s / xp.abs(t))
 
     a = 0.5
     total = corner(x + a, y + a) - corner(x - a, y + a) - corner(x + a, y - a) + corner(x - a, y - a)
-    return np.asarray(total / math.pi)
-
-
-@cached
-def _free_anisotropy(n: int) -> np.ndarray:
-    """The rfft2 of `pixel_anisotropy` on the 2n × 2n grid of a free map (as `_operator._free_kernel`)."""
-    i = np.arange(2 * n)
-    offsets = np.where(i <= n, i, i - 2 * n).astype(float)
-    return np.fft.rfft2(pixel_anisotropy(offsets[:, None], offsets[None, :]))
+    return total / math.pi
 
 
 def tangential_compliance(normal: Compliance, substrate: AbstractSubstrate, nu) -> Compliance:
     """The tangential compliance (along the rows) beside the normal one, for Poisson's ratio `nu`
     (a JAX scalar in [0, 0.5), differentiable): the normal kernel plus `ν/(1 − ν)` times the
     anisotropic one."""
-    n = normal.n
-    anisotropy = _free_anisotropy(n) if isinstance(substrate, Free) else _periodic_anisotropy(n)
-    dtype = normal.kernel.dtype
-    weight = jnp.asarray(nu / (1.0 - nu)).astype(dtype)  # a complex kernel (free) is written out as such
-    kernel = normal.kernel + weight * jnp.asarray(anisotropy, dtype)
+    n, fft, dtype = normal.n, normal.fft, normal.stiffness.dtype
+    if isinstance(substrate, Free):
+        anisotropy = fft.spatial_kernel(pixel_anisotropy, 2 * n, dtype)
+    else:
+        anisotropy = fft.spectral_kernel(shear_wavenumber, n, dtype)
+    weight = jnp.asarray(nu / (1.0 - nu)).astype(anisotropy.dtype)  # a complex kernel (free) is written out as such
+    kernel = normal.kernel + weight * anisotropy
     return Compliance(kernel, normal.stiffness, n, normal.fft)
