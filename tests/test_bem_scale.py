@@ -108,6 +108,14 @@ out["free"] = [np.asarray(x).tolist() for x in (alone.offset, split.offset, alon
 # Heights sharded by the user with the FFTs left to XLA's partitioner: the same solve.
 user = bem.solve(jax.device_put(h, NamedSharding(mesh, PartitionSpec("rows", None))), L, E, loads)
 out["partitioner"] = [np.asarray(x).tolist() for x in (bem.solve(h, L, E, loads).offset, user.offset)]
+# The BEM model's realisations split so: the secant of each, to the solves' tolerance (1e-9).
+import jaxcontact as jc
+model = lambda fft: jc.BEM(grid=32, realisations=1, fft=fft)
+side = 4e-4  # l_min = side/6 on 32²
+scene = jc.Scene(jc.Surface(D=1.5, G=1e-12, l_min=side / 6), jc.Material(E=E, nu=0.3, H=1e9), side**2, model(fft))
+model_loads = np.array([1e-4, 3e-4]) * E * side**2
+stiffness = lambda f: np.asarray(jc.solve(scene.with_model(model(f)), model_loads).stiffness).tolist()
+out["model"] = [stiffness(bem.LocalFFT()), stiffness(fft)]
 try:
     bem.solve(h[:62, :62], L, E, loads, fft=fft)
 except ValueError as error:
@@ -158,6 +166,11 @@ def test_the_distributed_gradient_stays_split_by_rows(sharded):
 def test_heights_sharded_by_the_user_give_the_offsets_of_one_device(sharded):
     alone, user = sharded["partitioner"]
     np.testing.assert_allclose(user, alone, rtol=1e-10)
+
+
+def test_the_bem_model_split_over_devices_gives_one_devices_stiffness(sharded):
+    alone, split = sharded["model"]
+    np.testing.assert_allclose(split, alone, rtol=1e-8)
 
 
 def test_a_side_that_does_not_split_over_the_devices_is_refused_with_the_count(sharded):

@@ -16,11 +16,11 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Int
 
 from ..models import CLOSED_INTERFACE
-from ..numerics._validate import InputError, check_range, check_strategy
+from ..numerics._validate import check_range, check_strategy
 from ..quantities import Status
 from ._ccg import contact_cg
 from ._checks import check_arguments, check_iteration, checked_status, stand_in_loads, valid_problem
-from ._fft import AbstractFFT, LocalFFT
+from ._fft import AbstractFFT, LocalFFT, check_fft
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
 from ._problem import GridProblem
 from ._solver import secant_stiffness
@@ -121,10 +121,8 @@ def solve(
     `max_iterations` < 1.
     """
     check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
-    if not isinstance(fft, AbstractFFT):
-        raise InputError(f"fft = {fft!r} must be bem.LocalFFT() or bem.DistributedFFT(mesh, axis)")
     check_arguments(heights, size, modulus, loads, hardness)
-    fft.check(np.shape(heights)[-1])
+    check_fft(fft, np.shape(heights)[-1])
     check_iteration(tolerance, max_iterations)
     dtype = jnp.result_type(heights, loads, 1.0)
     if tolerance is None:

@@ -198,3 +198,10 @@ class DistributedFFT(AbstractFFT):
             return jnp.fft.irfft(spectrum[:, : rows // 2 + 1], n=rows, axis=1)[:, :n]
 
         return self._mapped(local, ("rows", "columns"), "rows")(field, kernel)
+
+
+def check_fft(fft, n: int) -> None:
+    """Raise `ValueError` unless `fft` is an `AbstractFFT` that can transform an n × n map."""
+    if not isinstance(fft, AbstractFFT):
+        raise InputError(f"fft = {fft!r} must be bem.LocalFFT() or bem.DistributedFFT(mesh, axis)")
+    fft.check(n)

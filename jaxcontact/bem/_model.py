@@ -17,6 +17,7 @@ from ..physics import MeasuredSpectrum
 from ..quantities import Status, nondimensionalise
 from ._checks import check_iteration, checked_status, stand_in_loads
 from ._contact import DEFAULT_TOLERANCE, sweep_sides
+from ._fft import AbstractFFT, LocalFFT, check_fft
 from ._operator import Periodic
 from ._path import solve_path_grid
 from ._problem import GridProblem
@@ -46,6 +47,8 @@ class BEM(AbstractSweptModel):
       surfaces exactly, and results piecewise constant in l_min).
     - `tolerance` (in (0, 1e-5], None for the precision's default), `max_iterations` (≥ 1),
       `preconditioned`: of the constrained conjugate gradients (`bem.solve`).
+    - `fft`: `bem.LocalFFT()`, or `bem.DistributedFFT(mesh, axis)` to split each realisation's
+      rows over the devices of a mesh (`bem.solve`; `grid` a multiple of their count).
     - `spectrum`: None (the scene's self-affine C2D from D, G and l_min) or a `MeasuredSpectrum`,
       whose table (cut at its last point, which the grid must resolve as it resolves l_min) the
       realisations then have instead.
@@ -70,6 +73,7 @@ class BEM(AbstractSweptModel):
     tolerance: float | None = eqx.field(static=True, default=None)
     max_iterations: int = eqx.field(static=True, default=2000)
     preconditioned: bool = eqx.field(static=True, default=True)
+    fft: AbstractFFT = LocalFFT()
     spectrum: MeasuredSpectrum | None = None
 
     def __check_init__(self):
@@ -80,6 +84,7 @@ class BEM(AbstractSweptModel):
         check_range("relative_step", self.relative_step, 0.0, 0.5, low_open=False)
         check_range("rolloff", self.rolloff, 0.0, 64.0, low_open=False)
         check_iteration(self.tolerance, self.max_iterations)
+        check_fft(self.fft, self.grid)
         if self.spectrum is not None:
             check_instance("spectrum", self.spectrum, MeasuredSpectrum)
 
@@ -124,7 +129,7 @@ class BEM(AbstractSweptModel):
         dtype = jnp.result_type(s.D)
         heights = self._heights(s, dtype)
         hardness, tolerance = self._cap_and_tolerance(s, dtype)
-        settings = (Periodic(), tolerance, self.max_iterations, self.preconditioned)
+        settings = (Periodic(), tolerance, self.max_iterations, self.preconditioned, self.fft)
 
         def follow(F_star) -> PathPoints:
             # One realisation after another, as `sweep_solver`'s capped curves.
@@ -148,9 +153,12 @@ class BEM(AbstractSweptModel):
         heights = self._heights(s, dtype)
         resolved = self._resolved(s)
         hardness, tolerance = self._cap_and_tolerance(s, dtype)
+
         # Lengths in L = sqrt(A_a), pressures in E: a load is F*, a stiffness K*.
-        build = GridProblem.build
-        problems = jax.vmap(lambda h: build(h, 1.0, 1.0, hardness, Periodic(), self.preconditioned))(heights)
+        def problem(h):
+            return GridProblem.build(h, 1.0, 1.0, hardness, Periodic(), self.preconditioned, None, self.fft)
+
+        problems = jax.vmap(problem)(heights)
         step = self.relative_step
         sides = (-step, step) if step > 0 else (0.0,)
 

@@ -21,6 +21,7 @@ from ..numerics._validate import InputError, check_strategy
 from ..quantities import Branch, Status, branches
 from ._checks import check_arguments, check_iteration, checked_status, stand_in_loads, valid_problem
 from ._contact import DEFAULT_TOLERANCE, contact_at, warm_start
+from ._fft import AbstractFFT, LocalFFT, check_fft
 from ._operator import SUBSTRATES, AbstractSubstrate, Periodic
 from ._problem import GridProblem
 from ._tangent import elastic_stiffness
@@ -62,13 +63,14 @@ def solve_path(
     tolerance: float | None = None,
     max_iterations: int = 2000,
     preconditioned: bool = True,
+    fft: AbstractFFT = LocalFFT(),
 ) -> PathSolution:
     """The boundary-element contact along a load path, the plastic flattening kept (module docstring).
 
     **Arguments:**
 
     - `heights`, `size`, `modulus`, `hardness`, `substrate`, `tolerance`, `max_iterations`,
-      `preconditioned`: as `bem.solve`; `hardness` None is the elastic contact, where every branch
+      `preconditioned`, `fft`: as `bem.solve`; `hardness` None is the elastic contact, where every branch
       retraces the loading one.
     - `path`: total normal loads, N, a 1-D array in the order applied (any sequence: load, unload,
       reload, ...).
@@ -83,6 +85,7 @@ def solve_path(
     check_strategy("substrate", substrate, AbstractSubstrate, SUBSTRATES, "bem")
     check_arguments(heights, size, modulus, path, hardness, loads_name="path")
     check_iteration(tolerance, max_iterations)
+    check_fft(fft, np.shape(heights)[-1])
     if not isinstance(preconditioned, bool):
         raise InputError(f"preconditioned = {preconditioned!r} must be true or false")
     dtype = jnp.result_type(heights, path, 1.0)
@@ -90,13 +93,15 @@ def solve_path(
         tolerance = DEFAULT_TOLERANCE.get(np.dtype(dtype), 1e-5)
     arrays = tuple(jnp.asarray(x, dtype) for x in (heights, size, modulus, path))
     cap = None if hardness is None else jnp.asarray(hardness, dtype)
-    return _solve_path(*arrays, cap, substrate, float(tolerance), int(max_iterations), preconditioned)
+    return _solve_path(*arrays, cap, substrate, float(tolerance), int(max_iterations), preconditioned, fft)
 
 
-def solve_path_grid(heights, size, modulus, path, hardness, substrate, tolerance, max_iterations, pc) -> PathSolution:
+def solve_path_grid(
+    heights, size, modulus, path, hardness, substrate, tolerance, max_iterations, pc, fft=LocalFFT()
+) -> PathSolution:
     """`solve_path` on arrays of one dtype with its settings checked, traceable (the BEM model's path)."""
     sound, heights, size, modulus, hardness = valid_problem(heights, size, modulus, hardness)
-    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc)
+    problem = GridProblem.build(heights, size, modulus, hardness, substrate, pc, None, fft)
     loads, valid = stand_in_loads(path, 1e-4 * modulus * size * size)
     kinds = branches(jnp.where(valid, path, 0.0))
 
