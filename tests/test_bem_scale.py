@@ -168,6 +168,61 @@ def test_heights_sharded_by_the_user_give_the_offsets_of_one_device(sharded):
     np.testing.assert_allclose(user, alone, rtol=1e-10)
 
 
+_PROCESS = """
+import os, sys, json
+process, port = int(sys.argv[1]), sys.argv[2]
+os.environ["XLA_FLAGS"] = os.environ.get("XLA_FLAGS", "") + " --xla_force_host_platform_device_count=2"
+import jax
+jax.config.update("jax_enable_x64", True)
+jax.config.update("jax_cpu_collectives_implementation", "gloo")
+jax.distributed.initialize(f"localhost:{port}", num_processes=2, process_id=process)
+import jax.numpy as jnp, numpy as np
+from jax.sharding import Mesh, NamedSharding, PartitionSpec
+from jaxcontact import bem
+L, E = 1e-3, 1e11
+# The map of the 4-device run above, each process holding its own rows only.
+q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.fftfreq(64), indexing="ij"))
+phases = np.exp(2j * np.pi * np.random.default_rng(0).random((64, 64)))
+h = np.real(np.fft.ifft2(np.where(q > 0, q, 1.0) ** -2 * phases))
+h = h * 1e-6 / h.std()
+mesh = Mesh(np.array(jax.devices()), ("rows",))
+heights = jax.make_array_from_callback(h.shape, NamedSharding(mesh, PartitionSpec("rows", None)), lambda i: h[i])
+loads = jnp.array([0.5, 4.0]) * 1e-4 * E * L * L
+solution = bem.solve(heights, L, E, loads, hardness=1.5e8, fft=bem.DistributedFFT(mesh))
+print(json.dumps({"devices": len(jax.devices()), "offset": np.asarray(solution.offset).tolist()}))
+"""
+
+
+@pytest.fixture(scope="module")
+def two_processes():
+    """The capped solve on two processes of two (host) devices each, as on two hosts
+    (`jax.distributed`, gloo's collectives): each process's output."""
+    import json
+    import socket
+    import subprocess
+    import sys
+
+    with socket.socket() as free:
+        free.bind(("localhost", 0))
+        port = str(free.getsockname()[1])
+    runs = [
+        subprocess.Popen([sys.executable, "-c", _PROCESS, str(i), port], stdout=subprocess.PIPE, text=True)
+        for i in range(2)
+    ]
+    outputs = [run.communicate(timeout=300)[0] for run in runs]
+    assert [run.returncode for run in runs] == [0, 0]
+    return [json.loads(out.strip().splitlines()[-1]) for out in outputs]
+
+
+def test_two_processes_see_four_devices(two_processes):
+    assert [out["devices"] for out in two_processes] == [4, 4]
+
+
+@pytest.mark.parametrize("process", [0, 1])
+def test_two_processes_give_the_offsets_of_one_device(sharded, two_processes, process):
+    np.testing.assert_allclose(two_processes[process]["offset"], sharded["capped alone"][0], rtol=1e-10)
+
+
 def test_the_bem_model_split_over_devices_gives_one_devices_stiffness(sharded):
     alone, split = sharded["model"]
     np.testing.assert_allclose(split, alone, rtol=1e-8)

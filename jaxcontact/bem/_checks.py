@@ -26,15 +26,11 @@ def check_arguments(heights, size, modulus, loads, hardness, loads_name: str = "
         raise InputError(f"heights is {shape[0]} × {shape[1]}: at least {SMALLEST_GRID} points a side are needed")
     if not jnp.issubdtype(jnp.result_type(heights), jnp.floating):
         raise InputError(f"heights has dtype {jnp.result_type(heights)}: give real heights (m), a float array")
-    values = concrete(heights)
-    if values is not None and not np.all(np.isfinite(values)):
+    finite, spread, span = _summary(heights)
+    if finite is not None and not finite:
         raise InputError("heights has NaN or infinite values: give a map of finite heights (m)")
-    with np.errstate(over="ignore"):
-        spread = None if values is None else np.std(values)
     if spread is not None and not np.isfinite(spread):
-        raise InputError(
-            f"heights spans {np.ptp(values):.3g} m, beyond the working precision's range: give heights in metres"
-        )
+        raise InputError(f"heights spans {span:.3g} m, beyond the working precision's range: give heights in metres")
     check_range("size", size, 0.0, meaning="side length, m")
     check_range("modulus", modulus, 0.0, meaning="contact modulus, Pa")
     if hardness is not None:
@@ -42,6 +38,24 @@ def check_arguments(heights, size, modulus, loads, hardness, loads_name: str = "
     if jnp.ndim(loads) != 1 or jnp.shape(loads)[0] == 0:
         raise InputError(f"{assigned(loads_name, repr(jnp.shape(loads)))} must be a non-empty 1-D array of loads (N)")
     check_range(loads_name, loads, 0.0, meaning="N")
+
+
+def _summary(heights):
+    """Whether every height is finite, their standard deviation and their span; None while traced.
+    On the host, in float64; on the devices for a map spread over several processes (`jax.distributed`),
+    which no one process holds whole."""
+    if isinstance(heights, jax.core.Tracer):
+        return None, None, None
+    if isinstance(heights, jax.Array) and not heights.is_fully_addressable:
+        return tuple(x.item() for x in _device_summary(heights))
+    values = concrete(heights)
+    with np.errstate(over="ignore"):
+        return bool(np.all(np.isfinite(values))), np.std(values), np.ptp(values)
+
+
+@jax.jit
+def _device_summary(heights):
+    return jnp.all(jnp.isfinite(heights)), jnp.std(heights), jnp.ptp(heights)
 
 
 def check_iteration(tolerance, max_iterations) -> None:
