@@ -81,6 +81,7 @@ gc.set_threshold(100_000, 50, 1000)
 LONGEST_FIRST = (
     "test_hard_cases.py",
     "test_bem_model.py",
+    "test_bem_scale.py",
     "test_bem_layered.py",
     "test_contract.py",
     "test_bem_jax.py",
@@ -97,7 +98,6 @@ LONGEST_FIRST = (
     "test_compare_cli.py",
     "test_summit_path.py",
     "test_cli.py",
-    "test_bem_scale.py",
     "test_topography.py",
     "test_api.py",
     "test_bem_slip.py",

@@ -188,14 +188,14 @@ h = h * 1e-6 / h.std()
 mesh = Mesh(np.array(jax.devices()), ("rows",))
 heights = jax.make_array_from_callback(h.shape, NamedSharding(mesh, PartitionSpec("rows", None)), lambda i: h[i])
 loads = jnp.array([0.5, 4.0]) * 1e-4 * E * L * L
-solution = bem.solve(heights, L, E, loads, hardness=1.5e8, fft=bem.DistributedFFT(mesh))
+solution = bem.solve(heights, L, E, loads, fft=bem.DistributedFFT(mesh))
 print(json.dumps({"devices": len(jax.devices()), "offset": np.asarray(solution.offset).tolist()}))
 """
 
 
 @pytest.fixture(scope="module")
 def two_processes():
-    """The capped solve on two processes of two (host) devices each, as on two hosts
+    """The elastic solve on two processes of two (host) devices each, as on two hosts
     (`jax.distributed`, gloo's collectives): each process's output."""
     import json
     import socket
@@ -220,7 +220,7 @@ def test_two_processes_see_four_devices(two_processes):
 
 @pytest.mark.parametrize("process", [0, 1])
 def test_two_processes_give_the_offsets_of_one_device(sharded, two_processes, process):
-    np.testing.assert_allclose(two_processes[process]["offset"], sharded["capped alone"][0], rtol=1e-10)
+    np.testing.assert_allclose(two_processes[process]["offset"], sharded["partitioner"][0], rtol=1e-10)
 
 
 def test_the_bem_model_split_over_devices_gives_one_devices_stiffness(sharded):
