@@ -363,6 +363,13 @@ _BEM_BENCH = {
         "contactmechanics": {"s_per_point": 0.9},
     },
     "memory_1024": {"grid": 1024, "arguments_MiB": 8.0, "temporaries_MiB": 73.0},
+    "memory_2048": {
+        "grid": 2048,
+        "arguments_MiB": 32.0,
+        "temporaries_MiB": 300.0,
+        "devices": 4,
+        "split_temporaries_MiB": 107.0,
+    },
 }
 
 
@@ -376,6 +383,7 @@ def test_bench_bem_writes_its_report_to_out(tmp_path, capsys, monkeypatch):
     lines = (tmp_path / "bench_bem.txt").read_text().splitlines()
     assert "256²: ContactMechanics 0.900 s; JAX tangent 0.100 s (9.0x)" in lines[1]
     assert lines[2] == "  memory of a solve on 1024²: 81 MiB (73 MiB temporaries, XLA's buffer assignment)"
+    assert lines[3].endswith("; split over 4 devices (bem.DistributedFFT), 107 MiB temporaries a device")
     assert json.loads((tmp_path / "bench_bem.json").read_text())["per_point_256"]["jax_tangent"]["speedup"] == 9.0
 
 

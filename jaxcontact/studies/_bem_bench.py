@@ -99,21 +99,35 @@ def iterations(grid: int, f_star=(1e-4, 3e-4, 1e-3), plain: bool = True, dtype=N
 
 def memory(grid: int) -> dict:
     """The buffers XLA assigns to a solve with the secant on `grid`² (float64, periodic): its
-    arguments and its temporaries, MiB (compiled, not run: `Compiled.memory_analysis`)."""
+    arguments and its temporaries, MiB (compiled, not run: `Compiled.memory_analysis`); with several
+    devices, also the temporaries a device holds with the rows split over all of them
+    (`bem.DistributedFFT`)."""
     import jax
     import jax.numpy as jnp
+    from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-    from ..bem import solve
+    from ..bem import DistributedFFT, LocalFFT, solve
 
     heights, loads = jnp.zeros((grid, grid)), jnp.asarray([F_STAR[1] * MODULUS * LENGTH**2])
-    program = jax.jit(lambda h, F: solve(h, LENGTH, MODULUS, F, secant=0.02).secant_stiffness)
-    analysis = program.lower(heights, loads).compile().memory_analysis()
+
+    def analysis(fft, heights):
+        program = jax.jit(lambda h, F: solve(h, LENGTH, MODULUS, F, secant=0.02, fft=fft).secant_stiffness)
+        return program.lower(heights, loads).compile().memory_analysis()
+
     mib = 2.0**20
-    return {
+    one = analysis(LocalFFT(), heights)
+    out = {
         "grid": grid,
-        "arguments_MiB": analysis.argument_size_in_bytes / mib,
-        "temporaries_MiB": analysis.temp_size_in_bytes / mib,
+        "arguments_MiB": one.argument_size_in_bytes / mib,
+        "temporaries_MiB": one.temp_size_in_bytes / mib,
     }
+    devices = jax.devices()
+    if len(devices) > 1 and grid % len(devices) == 0:
+        mesh = Mesh(np.array(devices), ("rows",))
+        split = jax.device_put(heights, NamedSharding(mesh, PartitionSpec("rows", None)))
+        out["devices"] = len(devices)
+        out["split_temporaries_MiB"] = analysis(DistributedFFT(mesh), split).temp_size_in_bytes / mib
+    return out
 
 
 def fit_time(grid: int = 256, realisations: int = 2, loads: int = 6) -> dict:
@@ -183,9 +197,15 @@ def format_bem_bench(r: dict) -> str:
                 f"{p['iterations']} ({p['s_per_load']:.3g} s a load), plain {q['iterations']} ({q['s_per_load']:.3g} s)"
             )
         elif key.startswith("memory"):
+            split = ""
+            if "devices" in v:
+                split = (
+                    f"; split over {v['devices']} devices (bem.DistributedFFT), "
+                    f"{v['split_temporaries_MiB']:.0f} MiB temporaries a device"
+                )
             lines.append(
                 f"  memory of a solve on {v['grid']}²: {v['arguments_MiB'] + v['temporaries_MiB']:.0f} MiB "
-                f"({v['temporaries_MiB']:.0f} MiB temporaries, XLA's buffer assignment)"
+                f"({v['temporaries_MiB']:.0f} MiB temporaries, XLA's buffer assignment){split}"
             )
     f = r.get("fit")
     if f:
