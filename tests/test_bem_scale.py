@@ -108,6 +108,10 @@ out["free"] = [np.asarray(x).tolist() for x in (alone.offset, split.offset, alon
 # Heights sharded by the user with the FFTs left to XLA's partitioner: the same solve.
 user = bem.solve(jax.device_put(h, NamedSharding(mesh, PartitionSpec("rows", None))), L, E, loads)
 out["partitioner"] = [np.asarray(x).tolist() for x in (bem.solve(h, L, E, loads).offset, user.offset)]
+# Float32: the map and loads in single precision (tolerance 1e-5 of the rms height).
+single = lambda fft: bem.solve(h.astype(jnp.float32), L, E, loads.astype(jnp.float32), fft=fft)
+solved = (single(bem.LocalFFT()), single(fft))
+out["float32"] = [[str(s.stiffness.dtype), np.asarray(s.stiffness, float).tolist()] for s in solved]
 # The BEM model's realisations split so: the secant of each, to the solves' tolerance (1e-9).
 import jaxcontact as jc
 model = lambda fft: jc.BEM(grid=32, realisations=1, fft=fft)
@@ -221,6 +225,15 @@ def test_two_processes_see_four_devices(two_processes):
 @pytest.mark.parametrize("process", [0, 1])
 def test_two_processes_give_the_offsets_of_one_device(sharded, two_processes, process):
     np.testing.assert_allclose(two_processes[process]["offset"], sharded["partitioner"][0], rtol=1e-10)
+
+
+def test_a_distributed_float32_solve_stays_in_float32(sharded):
+    assert [dtype for dtype, _ in sharded["float32"]] == ["float32", "float32"]
+
+
+def test_a_distributed_float32_solve_gives_one_devices_stiffness_to_its_tolerance(sharded):
+    (_, alone), (_, split) = sharded["float32"]
+    np.testing.assert_allclose(split, alone, rtol=1e-4)
 
 
 def test_the_bem_model_split_over_devices_gives_one_devices_stiffness(sharded):
