@@ -100,10 +100,8 @@ class LocalFFT(AbstractFFT):
 
     def convolve(self, field, kernel):
         n, rows = field.shape[0], kernel.shape[0]
-        if rows == n:
-            return jnp.fft.irfft2(_times(jnp.fft.rfft2(field), kernel), s=(n, n))
-        padded = jnp.zeros((rows, rows), field.dtype).at[:n, :n].set(field)
-        return jnp.fft.irfft2(_times(jnp.fft.rfft2(padded), kernel), s=(rows, rows))[:n, :n]
+        spectrum = jnp.fft.rfft2(field, s=(rows, rows))  # zero-pads a free map
+        return jnp.fft.irfft2(_times(spectrum, kernel), s=(rows, rows))[:n, :n]
 
     def spectral_kernel(self, values, rows, dtype):
         return jnp.asarray(_host_spectral(values, rows), dtype)
