@@ -68,7 +68,17 @@ def test_at_12_percent_contact_on_256_squared_it_takes_at_most_half_the_iteratio
     assert int(_solved("elastic", True).iterations[1]) <= int(_solved("elastic", False).iterations[1]) // 2
 
 
-_SHARDED = """
+# Both subprocesses' map: self-affine (C2D ∝ q^-4, random phases), 1 µm rms, 64², as numpy `h`.
+_MAP = """
+L, E = 1e-3, 1e11
+q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.fftfreq(64), indexing="ij"))
+phases = np.exp(2j * np.pi * np.random.default_rng(0).random((64, 64)))
+h = np.real(np.fft.ifft2(np.where(q > 0, q, 1.0) ** -2 * phases))
+h = h * 1e-6 / h.std()
+"""
+
+_SHARDED = (
+    """
 import os
 # The suite's compiler flags (conftest.py), with 4 host devices.
 os.environ["XLA_FLAGS"] = os.environ.get("XLA_FLAGS", "") + " --xla_force_host_platform_device_count=4"
@@ -77,12 +87,10 @@ jax.config.update("jax_enable_x64", True)
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from jaxcontact import bem
-L, E = 1e-3, 1e11
-# A self-affine map (C2D ∝ q^-4, random phases), 1 µm rms.
-q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.fftfreq(64), indexing="ij"))
-phases = np.exp(2j * np.pi * np.random.default_rng(0).random((64, 64)))
-h = np.real(np.fft.ifft2(np.where(q > 0, q, 1.0) ** -2 * phases))
-h = jnp.asarray(h * 1e-6 / h.std())
+"""
+    + _MAP
+    + """
+h = jnp.asarray(h)
 mesh = Mesh(np.array(jax.devices()), ("rows",))
 fft = bem.DistributedFFT(mesh, "rows")
 loads = jnp.array([0.5, 4.0]) * 1e-4 * E * L * L
@@ -126,6 +134,7 @@ except ValueError as error:
     out["refused"] = str(error)
 print(json.dumps(out))
 """
+)
 
 
 @pytest.fixture(scope="module")
@@ -172,7 +181,8 @@ def test_heights_sharded_by_the_user_give_the_offsets_of_one_device(sharded):
     np.testing.assert_allclose(user, alone, rtol=1e-10)
 
 
-_PROCESS = """
+_PROCESS = (
+    """
 import os, sys, json
 process, port = int(sys.argv[1]), sys.argv[2]
 os.environ["XLA_FLAGS"] = os.environ.get("XLA_FLAGS", "") + " --xla_force_host_platform_device_count=2"
@@ -183,18 +193,17 @@ jax.distributed.initialize(f"localhost:{port}", num_processes=2, process_id=proc
 import jax.numpy as jnp, numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from jaxcontact import bem
-L, E = 1e-3, 1e11
-# The map of the 4-device run above, each process holding its own rows only.
-q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.fftfreq(64), indexing="ij"))
-phases = np.exp(2j * np.pi * np.random.default_rng(0).random((64, 64)))
-h = np.real(np.fft.ifft2(np.where(q > 0, q, 1.0) ** -2 * phases))
-h = h * 1e-6 / h.std()
+"""
+    + _MAP
+    + """
+# Each process holds its own rows of the map only.
 mesh = Mesh(np.array(jax.devices()), ("rows",))
 heights = jax.make_array_from_callback(h.shape, NamedSharding(mesh, PartitionSpec("rows", None)), lambda i: h[i])
 loads = jnp.array([0.5, 4.0]) * 1e-4 * E * L * L
 solution = bem.solve(heights, L, E, loads, fft=bem.DistributedFFT(mesh))
 print(json.dumps({"devices": len(jax.devices()), "offset": np.asarray(solution.offset).tolist()}))
 """
+)
 
 
 @pytest.fixture(scope="module")
