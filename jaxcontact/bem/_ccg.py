@@ -6,17 +6,22 @@ The pressure p ≥ 0 (≤ H) on the grid minimises `½ pᵀCp − pᵀh` at a fi
 `g = Cp − h − δ` vanishes where `0 < p < H`, is ≥ 0 where `p = 0` and ≤ 0 where `p = H` (plastic
 flow), and δ, the rigid offset, is the constraint's multiplier. Conjugate-gradient steps run on the
 points strictly between the bounds; a bound point whose gap says it should move inward joins them
-and restarts the conjugacy; after each step the pressure is clipped to its bounds and shifted on
-the free points so that the total stays the load. Everything is in the grid units of `_operator`.
+and (in Polonsky & Keer's plain iteration) restarts the conjugacy; after each step the pressure is
+clipped to its bounds and shifted on the free points so that the total stays the load. Everything
+is in the grid units of `_operator`.
 
 Preconditioned (the default), each step searches along the gap multiplied by the periodic
 compliance's inverse `|q|/2` (`Compliance.inverse`, two FFTs), held to zero mean on the set it
 moves: the inverse of C on the whole grid stands in for the inverse of C on the free set. Bound
 points whose gap says they should move inward then join the search set itself, so that the line
 search weighs how they press on each other (moved one by one, thousands of them in a step overshoot
-together). The iterations then grow with the grid about as n^0.6 where the plain ones grow as n: 36,
-133, 229, 338 at 6-16 % contact on 512², 1024², 2048², 4096², against 95, 426, 851, 1168
-(docs/validation.md).
+together). Their joining does not restart the conjugacy: near convergence one or two points at the
+edge of a contact patch join in most steps, and restarting at each makes the iteration a
+preconditioned steepest descent (84 steps on a 512² map at 21 % contact, where this one takes 45).
+Powell's test restarts it instead, when the gap has lost its orthogonality to the last direction
+(joins, leaves and clipping at the bounds all do that), which also keeps the capped iteration from
+cycling. The iterations then grow with the grid about as n^0.4 where the plain ones grow as n: 45,
+58, 75 at 11-22 % contact on 512², 1024², 2048², against 293, 426, 851 (docs/validation.md).
 
 Where nearly every contact point sits at the cap (the free set below 1 % of the contact area, e.g. a
 rough surface whose elastic pixel pressures exceed H fifty-fold), the CG has nothing left to
@@ -43,6 +48,9 @@ _LOAD_PASSES = 3
 # ContactMechanics's mixing rule (`constrained_conjugate_gradients`: mixfac, mixdecfac, minmixsteps),
 # and its switch: mix when the CG-controlled set is below this share of the contact area.
 _MIX_FACTOR, _MIX_DECAY, _MIX_STEPS, _MIN_FREE_SHARE = 0.1, 0.95, 10, 0.01
+# Powell's (1977) restart test: the conjugacy restarts when the gap is no longer nearly orthogonal to
+# the last direction, |g·t_prev| > this × g·z, which exact line searches on a fixed set keep at 0.
+_POWELL = 0.2
 
 
 class ContactState(eqx.Module):
@@ -147,9 +155,12 @@ def contact_cg(
         wrong = movable(((p <= 0) & (gap < 0)) | ((p >= hardness) & (gap > 0)))
         any_wrong = jnp.any(wrong)
         moving = free | wrong if preconditioned else free
-        restart = state.restart | (any_wrong if preconditioned else False) | (state.previous_norm <= 0)
+        steepest = search(gap, moving)
+        restart = state.restart | (state.previous_norm <= 0)
+        if preconditioned:
+            restart |= jnp.abs(_masked_sum(moving, gap * t)) > _POWELL * _masked_sum(moving, gap * steepest)
         beta = jnp.where(restart, 0.0, norm / state.previous_norm)
-        t = jnp.where(moving, search(gap, moving) + beta * t, 0.0)
+        t = jnp.where(moving, steepest + beta * t, 0.0)
         r = compliance(t)
         r = r - _masked_mean(moving, r)
         curvature = _masked_sum(moving, r * t)
@@ -157,7 +168,7 @@ def contact_cg(
         moved = jnp.where(moving, p - tau * t, p)
         if not preconditioned:
             moved = jnp.where(wrong, p - jnp.where(tau > 0, tau, 1.0) * gap, moved)
-        return _with_total(moved, total, hardness, passes), t, any_wrong
+        return _with_total(moved, total, hardness, passes), t, jnp.array(False) if preconditioned else any_wrong
 
     def step(state: ContactState) -> ContactState:
         p = state.pressure
