@@ -74,6 +74,14 @@ def test_at_46_percent_contact_on_256_squared_it_takes_at_most_a_seventh_of_the_
     assert int(_solved("elastic", True).iterations[2]) <= int(_solved("elastic", False).iterations[2]) // 7
 
 
+def test_a_contact_with_93_percent_of_its_points_at_the_cap_converges():
+    """D = 1.2 at H = 0.3 GPa on 128²: where the cap holds most of the contact's points, a join restarts
+    the conjugacy; kept through the joins there, the iteration cycles on this contact to its limit."""
+    heights = jnp.asarray(bem.realisation(1.2, 1e-12, L / 32, L, 128, 1).heights())
+    solution = bem.solve(heights, L, E, jnp.array([0.1, 0.12, 0.144]) * LOAD, hardness=3e8)
+    assert int(solution.status[0]) == 0
+
+
 # Both subprocesses' map: self-affine (C2D ∝ q^-4, random phases), 1 µm rms, 64², as numpy `h`.
 _MAP = """
 L, E = 1e-3, 1e11

@@ -19,9 +19,11 @@ together). Their joining does not restart the conjugacy: near convergence one or
 edge of a contact patch join in most steps, and restarting at each makes the iteration a
 preconditioned steepest descent (84 steps on a 512² map at 21 % contact, where this one takes 45).
 Powell's test restarts it instead, when the gap has lost its orthogonality to the last direction
-(joins, leaves and clipping at the bounds all do that), which also keeps the capped iteration from
-cycling. The iterations then grow with the grid about as n^0.4 where the plain ones grow as n: 45,
-58, 75 at 11-22 % contact on 512², 1024², 2048², against 293, 426, 851 (docs/validation.md).
+(joins, leaves and clipping at the bounds all do that). Where more points sit at the cap than
+between the bounds, joins still restart it, as in the plain iteration: kept through them there, the
+iteration cycles on some nearly all-capped contacts. The iterations then grow with the grid about as
+n^0.4 where the plain ones grow as n: 45, 58, 75 at 11-22 % contact on 512², 1024², 2048², against
+293, 426, 851 (docs/validation.md).
 
 Where nearly every contact point sits at the cap (the free set below 1 % of the contact area, e.g. a
 rough surface whose elastic pixel pressures exceed H fifty-fold), the CG has nothing left to
@@ -157,8 +159,13 @@ def contact_cg(
         moving = free | wrong if preconditioned else free
         steepest = search(gap, moving)
         restart = state.restart | (state.previous_norm <= 0)
+        # Where more points sit at the cap than between the bounds, a join restarts the conjugacy, now
+        # and at the next step, as in the plain iteration: kept through joins there, the iteration
+        # cycles on some nearly all-capped contacts that the restarts bring to convergence.
+        capped_join = any_wrong & (jnp.sum(movable(p >= hardness)) > jnp.sum(free)) if capped else jnp.array(False)
         if preconditioned:
             restart |= jnp.abs(_masked_sum(moving, gap * t)) > _POWELL * _masked_sum(moving, gap * steepest)
+            restart |= capped_join
         beta = jnp.where(restart, 0.0, norm / state.previous_norm)
         t = jnp.where(moving, steepest + beta * t, 0.0)
         r = compliance(t)
@@ -168,7 +175,7 @@ def contact_cg(
         moved = jnp.where(moving, p - tau * t, p)
         if not preconditioned:
             moved = jnp.where(wrong, p - jnp.where(tau > 0, tau, 1.0) * gap, moved)
-        return _with_total(moved, total, hardness, passes), t, jnp.array(False) if preconditioned else any_wrong
+        return _with_total(moved, total, hardness, passes), t, capped_join if preconditioned else any_wrong
 
     def step(state: ContactState) -> ContactState:
         p = state.pressure
