@@ -159,13 +159,14 @@ def contact_cg(
         moving = free | wrong if preconditioned else free
         steepest = search(gap, moving)
         restart = state.restart | (state.previous_norm <= 0)
-        # Where more points sit at the cap than between the bounds, a join restarts the conjugacy, now
-        # and at the next step, as in the plain iteration: kept through joins there, the iteration
-        # cycles on some nearly all-capped contacts that the restarts bring to convergence.
-        capped_join = any_wrong & (jnp.sum(movable(p >= hardness)) > jnp.sum(free)) if capped else jnp.array(False)
+        # A join that restarts the conjugacy at the next step too (the plain iteration's rule).
+        held = any_wrong
         if preconditioned:
             restart |= jnp.abs(_masked_sum(moving, gap * t)) > _POWELL * _masked_sum(moving, gap * steepest)
-            restart |= capped_join
+            # Only where more points sit at the cap than between the bounds: kept through joins
+            # there, the iteration cycles on some nearly all-capped contacts.
+            held = any_wrong & (jnp.sum(movable(p >= hardness)) > jnp.sum(free)) if capped else jnp.array(False)
+            restart |= held
         beta = jnp.where(restart, 0.0, norm / state.previous_norm)
         t = jnp.where(moving, steepest + beta * t, 0.0)
         r = compliance(t)
@@ -175,7 +176,7 @@ def contact_cg(
         moved = jnp.where(moving, p - tau * t, p)
         if not preconditioned:
             moved = jnp.where(wrong, p - jnp.where(tau > 0, tau, 1.0) * gap, moved)
-        return _with_total(moved, total, hardness, passes), t, capped_join if preconditioned else any_wrong
+        return _with_total(moved, total, hardness, passes), t, held
 
     def step(state: ContactState) -> ContactState:
         p = state.pressure
