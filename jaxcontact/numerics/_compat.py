@@ -32,6 +32,18 @@ def top_level() -> bool:
     return _trace_state_clean is not None and _trace_state_clean()
 
 
+try:  # likewise for "a program is being staged" (`jit`, `make_jaxpr`, a loop's body)
+    from jax._src.core import unsafe_am_i_under_a_jit as _staging
+except ImportError:
+    _staging = None
+
+
+def staging() -> bool:
+    """Whether the caller's program is being staged (under `jit`, whatever transformations sit
+    above it); `False` where this JAX cannot say (callers then take the path that works eagerly)."""
+    return _staging is not None and _staging()
+
+
 def namespace(*arrays):
     """`numpy` where every argument is a host value (numpy array or scalar, Python number), else
     `jax.numpy`: the properties of a result held on the host (`solve_sweep`'s) stay on the host,

@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..numerics import cached
-from ..numerics._compat import top_level
+from ..numerics._compat import staging, top_level
 from . import _store as store
 
 SMALLEST_BUCKET = 32
@@ -172,7 +172,10 @@ def call(function, leaves, treedef, loads, output_tree, pad: bool = True):
     outputs' tree structure where the program was read from disk, not traced.
     """
     compiled = program(function, treedef)
-    run = compiled.run if top_level() else compiled.flat
+    # Inside a caller's staged program the function is traced into it directly: a nested `jit` is
+    # transformed by re-tracing its program once per transformation (the fit's Jacobian: a third of
+    # its tracing time). An eager `grad` or `vmap` calls the jitted program, which runs compiled.
+    run = compiled.run if top_level() else compiled.function if staging() else compiled.flat
     padded_loads = padded(loads) if pad else loads
     if padded_loads is loads:
         outputs = run(leaves, loads)
