@@ -1,5 +1,6 @@
 """Log-area Gauss–Legendre quadrature against the closed forms, across the whole D range."""
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -54,3 +55,38 @@ def test_the_pole_remainder_agrees_across_quadratures():
         stiffness[quadrature] = np.asarray(solution.stiffness)
     for quadrature in ("gauss-legendre", "adaptive"):
         np.testing.assert_allclose(stiffness[quadrature], stiffness["power-series"], rtol=1e-12, err_msg=quadrature)
+
+
+def _paper_scene(together, D=TABLE1["D"]):
+    quadrature = jc.PowerSeries(regimes_together=together)
+    return make_scene(**dict(TABLE1, D=D), model=jc.Xia2024(interaction=jc.PaperInteraction(quadrature=quadrature)))
+
+
+# Loads across every regime of the Table 1 scene, up to its breakdown.
+LAYOUT_LOADS = np.geomspace(1e-10, 1e-5, 200) * 220e9 * 1e-4
+
+
+def test_the_regimes_laid_out_together_give_the_per_regime_stiffness():
+    apart = np.asarray(jc.solve(_paper_scene(False), LAYOUT_LOADS).stiffness)
+    together = np.asarray(jc.solve(_paper_scene(True), LAYOUT_LOADS).stiffness)
+    np.testing.assert_allclose(together, apart, rtol=1e-13)
+
+
+def test_the_regimes_laid_out_together_give_the_per_regime_gradient_in_D():
+    def total(D, together):
+        return jnp.sum(jnp.log(jc.solve(_paper_scene(together, D), LAYOUT_LOADS).stiffness))
+
+    apart, together = (jax.grad(total)(TABLE1["D"], t) for t in (False, True))
+    np.testing.assert_allclose(together, apart, rtol=1e-12)
+
+
+def test_a_solve_of_few_loads_lays_the_regimes_out_together():
+    """The default layout (`regimes_together=None`) makes the program of 32 loads much smaller than
+    that of 256, which keeps a chain per regime."""
+    scene = jc.table1_scene()
+
+    def size(n):
+        jaxpr = jax.make_jaxpr(lambda F: jc.solve(scene, F).stiffness)(jnp.geomspace(1.0, 1e3, n))
+        return len(str(jaxpr))
+
+    assert size(32) < 0.8 * size(256)

@@ -22,6 +22,7 @@ from ..models import PointResult
 from ..models import curve_solver as model_curve_solver
 from ..numerics import LoadsLike
 from ..numerics._elementwise import unrolled_sum
+from ..numerics._quadrature import for_loads
 from ..physics import AbstractStiffness, Loading, TangentialStick, Unloading
 from ..programs import _programs as programs
 from ..quantities import Scales, Status, nondimensionalise
@@ -93,6 +94,7 @@ def kink_log_loads(scene: Scene) -> Float[Array, " kinks"]:
 
 def _solve(tree: tuple[Scene, Outputs], loads):
     scene, outputs = tree
+    scene = for_loads(scene, loads.size)  # the program's layout (`PowerSeries`)
     # The scales too come from the stand-in where the scene is out of its domain (its points are flagged).
     guarded, in_domain = within_domain(scene)
     scales = Scales.of(guarded)

@@ -57,11 +57,9 @@ def paper_correction(
     remainder is `C ∫ u^p/(1-u) du` with `C = e^(d - δr/q) / q` and `p = δ/q + k` (`d, δ`: the
     density's log-coefficient and rate; `r, q`: the ratio's), the quadrature's `pole_integrals`.
 
-    **Returns:** one correction per regime, as a list. Each regime is computed as its own chain
-    of scalar operations: under `vmap` a vector of regimes would become a short minor axis, and
-    XLA on CPU does not vectorise a loop whose lanes read different coefficients (the pole
-    series' 21 Horner steps). Row by row the run time is lower (most for long load arrays), for a
-    longer compile. (A row quadrature's remainder takes all rows in one call: no Horner loop there.)
+    **Returns:** one correction per regime, as a list: the regimes' closed forms computed as one
+    array or each as its own chain of scalar operations, as `quadrature.regimes_together` says
+    (`PowerSeries`: the same numbers, a shorter compile or a faster run on many loads).
     """
     d, r = density, ratio
     remainders = quadrature.pole_integrals(
@@ -70,13 +68,20 @@ def paper_correction(
         r.log_coeff + r.exponent * lower,
         r.log_coeff + r.exponent * upper,
     )
+    if quadrature.regimes_together:
+        j = jnp.arange(1, GEOMETRIC_TERMS + 1, dtype=lower.dtype)[:, None]
+        terms = exponential_integral(d.log_coeff + j * r.log_coeff, d.exponent + j * r.exponent, lower, upper)
+        all_powers = terms[0] + terms[1] + terms[2] + terms[3]
     corrections = []
     for i, remainder in enumerate(remainders):
         lo, hi = lower[i], upper[i]
-        powers = sum(
-            exponential_integral(d.log_coeff[i] + j * r.log_coeff[i], d.exponent[i] + j * r.exponent[i], lo, hi)
-            for j in range(1, GEOMETRIC_TERMS + 1)
-        )
+        if quadrature.regimes_together:
+            powers = all_powers[i]
+        else:
+            powers = sum(
+                exponential_integral(d.log_coeff[i] + j * r.log_coeff[i], d.exponent[i] + j * r.exponent[i], lo, hi)
+                for j in range(1, GEOMETRIC_TERMS + 1)
+            )
         # The integrand is positive: a difference below 0 is round-off between two nearly equal
         # ends, and an empty interval is exactly 0 (its ends may even lie past the pole, where
         # a_min itself is beyond breakdown). Dividing by q last (not `- ln q` in the exponent)
