@@ -30,7 +30,7 @@ from scipy import optimize
 from ..core import Outputs, Scene, solve
 from ..quantities import Scales
 from ._bench_paths import bem_path, summit_path
-from ._bench_user import curve_as_users_call_it
+from ._bench_user import curve_as_users_call_it, fit_as_users_call_it
 from ._curve import _arrays, _baseline, best_of, called, curve
 from ._scipy_baseline import solve_curve
 
@@ -57,6 +57,14 @@ def time_scene(scene: Scene, loads, outputs: Outputs = Outputs()) -> dict:
 def _data(scene: Scene, n=30):
     loads = np.geomspace(1e-10, 1e-4, n) * float(Scales.of(scene).load)
     return loads, np.asarray(solve(scene, loads).stiffness) * np.exp(0.05 * np.random.default_rng(0).standard_normal(n))
+
+
+def _valid_curve(scene: Scene):
+    """30 loads (F* from 1e-10 to 1e-5, every point valid on Table 1 with "paper") and their K with
+    5 % noise: the curve of the fit's latency goal."""
+    from jaxcontact.fitting._synthetic import synthetic_curve
+
+    return synthetic_curve(scene, np.geomspace(1e-10, 1e-5, 30), noise=0.05, seed=1)
 
 
 def gradient(scene: Scene) -> dict:
@@ -237,6 +245,7 @@ def run_all(scene: Scene, progress=None) -> dict:
         ("curve_as_users_call_it", lambda s: curve_as_users_call_it(s, only=("plain", "filter_jit"))),
         ("gradient", gradient),
         ("fit", fit),
+        ("fit_as_users_call_it", lambda s: fit_as_users_call_it(s, *_valid_curve(s))),
         ("throughput", throughput),
         ("effects", effects_table),
         ("interface", interface),
