@@ -36,7 +36,7 @@ RECOVERY_CASES = [
 @pytest.mark.parametrize("model, interaction, D, G", RECOVERY_CASES)
 def test_noiseless_recovery(model, interaction, D, G):
     truth = make_scene(**dict(TABLE1, D=D, G=G), model=model, interaction=interaction)
-    # 40 points, as in the generated Table 1 file (any length up to 64 shares the compiled optimiser).
+    # 40 points, as in the generated Table 1 file (any length from 33 to 64 shares the compiled optimiser).
     F_star = np.geomspace(1e-10, 1e-5, 40) if model == "xia2024" else np.geomspace(1e-8, 1e-3, 40)
     loads, K = synthetic_curve(truth, F_star, noise=0.0)
     elastic = K > 0  # JZZ: K = 0 exactly while every spot is plastic (a_l < a_c); no log there
