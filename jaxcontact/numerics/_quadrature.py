@@ -63,7 +63,7 @@ class AbstractQuadrature(eqx.Module):
         self, power: Float[Array, " rows"], log_coeff, log_u_lower, log_u_upper
     ) -> list[Float[Array, ""]]:
         """`e^log_coeff ∫ u^power / (1 - u) du` from `u_lower` to `u_upper` (`u < 1`, `power ≥ 2`),
-        one scalar per row (the power series computes each row as its own chain: `interaction_integral`)."""
+        one scalar per row (laid out as `regimes_together` says: `PowerSeries`)."""
 
 
 # A solve of at most this many loads takes `PowerSeries(regimes_together=None)` as True (`for_loads`).
