@@ -94,7 +94,8 @@ class PowerSeries(AbstractQuadrature):
     def pole_integrals(self, power, log_coeff, log_u_lower, log_u_upper):
         poles = PoleIntegral.build(power)
         if self.regimes_together:
-            ends = poles(jnp.stack([log_u_upper, log_u_lower]), log_coeff)
+            both = jnp.stack([log_u_upper, log_u_lower])
+            ends = poles(both, jnp.broadcast_to(log_coeff, both.shape))
             values = ends[0] - ends[1]
             return [values[i] for i in range(power.shape[0])]
         return [

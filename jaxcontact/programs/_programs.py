@@ -62,7 +62,12 @@ class _Program:
             )
             return outputs
 
+        def inline(leaves, loads):
+            # As `jit` takes them: host values (a numpy load array, Python floats) become JAX arrays.
+            return flat(*jax.tree_util.tree_map(jnp.asarray, (leaves, loads)))
+
         self.function = flat
+        self.inline = inline
         self.flat = jax.jit(flat)
 
     def run(self, leaves, loads):
@@ -175,7 +180,7 @@ def call(function, leaves, treedef, loads, output_tree, pad: bool = True):
     # Inside a caller's staged program the function is traced into it directly: a nested `jit` is
     # transformed by re-tracing its program once per transformation (the fit's Jacobian: a third of
     # its tracing time). An eager `grad` or `vmap` calls the jitted program, which runs compiled.
-    run = compiled.run if top_level() else compiled.function if staging() else compiled.flat
+    run = compiled.run if top_level() else compiled.inline if staging() else compiled.flat
     padded_loads = padded(loads) if pad else loads
     if padded_loads is loads:
         outputs = run(leaves, loads)
