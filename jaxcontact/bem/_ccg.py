@@ -159,14 +159,15 @@ def contact_cg(
         moving = free | wrong if preconditioned else free
         steepest = search(gap, moving)
         restart = state.restart | (state.previous_norm <= 0)
-        # A join that restarts the conjugacy at the next step too (the plain iteration's rule).
-        held = any_wrong
+        # `held`: a join that restarts the conjugacy now and at the next step.
         if preconditioned:
             restart |= jnp.abs(_masked_sum(moving, gap * t)) > _POWELL * _masked_sum(moving, gap * steepest)
             # Only where more points sit at the cap than between the bounds: kept through joins
             # there, the iteration cycles on some nearly all-capped contacts.
             held = any_wrong & (jnp.sum(movable(p >= hardness)) > jnp.sum(free)) if capped else jnp.array(False)
             restart |= held
+        else:
+            held = any_wrong  # the plain iteration's rule
         beta = jnp.where(restart, 0.0, norm / state.previous_norm)
         t = jnp.where(moving, steepest + beta * t, 0.0)
         r = compliance(t)

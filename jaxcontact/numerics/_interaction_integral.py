@@ -68,24 +68,28 @@ def paper_correction(
         r.log_coeff + r.exponent * lower,
         r.log_coeff + r.exponent * upper,
     )
+    # The closed-form powers Σ_j ∫ k₀ n u^j da of each regime, summed over j in the same order either way.
     if quadrature.regimes_together:
         j = jnp.arange(1, GEOMETRIC_TERMS + 1, dtype=lower.dtype)[:, None]
         terms = exponential_integral(d.log_coeff + j * r.log_coeff, d.exponent + j * r.exponent, lower, upper)
-        all_powers = terms[0] + terms[1] + terms[2] + terms[3]
+        powers = sum((terms[k] for k in range(1, GEOMETRIC_TERMS)), terms[0])
+    else:
+        powers = [
+            sum(
+                exponential_integral(
+                    d.log_coeff[i] + j * r.log_coeff[i], d.exponent[i] + j * r.exponent[i], lower[i], upper[i]
+                )
+                for j in range(1, GEOMETRIC_TERMS + 1)
+            )
+            for i in range(len(remainders))
+        ]
     corrections = []
     for i, remainder in enumerate(remainders):
         lo, hi = lower[i], upper[i]
-        if quadrature.regimes_together:
-            powers = all_powers[i]
-        else:
-            powers = sum(
-                exponential_integral(d.log_coeff[i] + j * r.log_coeff[i], d.exponent[i] + j * r.exponent[i], lo, hi)
-                for j in range(1, GEOMETRIC_TERMS + 1)
-            )
         # The integrand is positive: a difference below 0 is round-off between two nearly equal
         # ends, and an empty interval is exactly 0 (its ends may even lie past the pole, where
         # a_min itself is beyond breakdown). Dividing by q last (not `- ln q` in the exponent)
         # ends the sum in a division, which XLA computes once and shares instead of copying the
         # polynomial work into every output that uses the stiffness (1.3x for a whole Solution).
-        corrections.append(powers + jnp.where(hi > lo, jnp.maximum(remainder, 0.0), 0.0) / r.exponent[i])
+        corrections.append(powers[i] + jnp.where(hi > lo, jnp.maximum(remainder, 0.0), 0.0) / r.exponent[i])
     return corrections
