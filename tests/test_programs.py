@@ -105,6 +105,12 @@ def test_jax_load_arrays_checked_once_each_get_their_own_solution(table1_scene):
     np.testing.assert_array_equal(np.stack(got), np.stack(expected))
 
 
+def test_a_jax_load_array_is_padded_once_for_repeated_calls():
+    # A caller's loop over scenes at one JAX array of loads: its padded copy is made once.
+    loads = jnp.geomspace(2.2, 2200.0, 200)
+    assert programs.padded(loads) is programs.padded(loads)
+
+
 def test_a_bad_jax_load_array_is_refused_at_every_call(table1_scene):
     loads = jnp.array([22.0, -1.0])
     for _ in range(2):

@@ -43,11 +43,6 @@ def _check_scalar_parameters(scene: Scene) -> None:
             )
 
 
-def _on_host(array: jax.Array) -> bool:
-    # A CPU-resident array reads as numpy without a copy; an accelerator's would need a transfer.
-    return all(device.platform == "cpu" for device in array.devices())
-
-
 # The scene of the last eager call, flattened, checked and cast per working dtype: a user who
 # calls `solve` in a loop on one scene pays for that once. Scenes are immutable, and the strong
 # reference kept here makes the identity test sound. Nothing made inside a trace is kept: arrays
@@ -115,9 +110,11 @@ def _prepare(scene: Scene, loads, outputs: Outputs = Outputs()):
     dtype, tree, leaves, treedef = _scene_leaves(scene, outputs, loads)
     if seen and last_dtype == dtype:
         return tree, leaves, treedef, last_prepared
-    if isinstance(loads, jax.core.Tracer) or (isinstance(loads, jax.Array) and not _on_host(loads)):
+    if isinstance(loads, (jax.Array, jax.core.Tracer)):
+        # A JAX array stays one: a jitted program takes it without a copy, where numpy values
+        # are copied to the device on every call (on CPU too: 47 µs against 28 µs for 224 loads).
         prepared = loads if loads.dtype == dtype else loads.astype(dtype)
-    else:  # host arrays go to a jitted program as they are, faster than through jnp.asarray
+    else:  # host values go to a jitted program as they are, faster than through jnp.asarray
         prepared = np.asarray(loads, dtype=dtype)
     if isinstance(loads, jax.Array) and not isinstance(loads, jax.core.Tracer) and top_level():
         _last_loads = (loads, dtype, prepared)

@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..numerics import cached
+from ..numerics import cached, register_cache
 from ..numerics._compat import staging, top_level
 from . import _store as store
 
@@ -126,6 +126,17 @@ def edge_padded(values: np.ndarray, size: int) -> np.ndarray:
     return out
 
 
+# The JAX load array last padded at top level, and its padded copy: a caller's loop over scenes at one
+# array of loads pads it once. JAX arrays are immutable, and the strong reference kept here makes
+# the identity test sound.
+_last_padded: list = [None, None]
+
+
+@register_cache
+def _forget_padded() -> None:
+    _last_padded[:] = [None, None]
+
+
 def padded(loads):
     """Concrete `loads`, flattened and padded to their bucket by repeating the last load; traced
     or already a bucket long, as they are."""
@@ -134,7 +145,12 @@ def padded(loads):
         return loads
     if isinstance(loads, np.ndarray):  # on the host already: padded there (as `map_in_chunks` pads)
         return edge_padded(loads.reshape(-1), size)
-    return _pad(loads, size)
+    if _last_padded[0] is loads:
+        return _last_padded[1]
+    result = _pad(loads, size)
+    if top_level():  # a concrete array padded inside a caller's trace is that trace's value
+        _last_padded[:] = [loads, result]
+    return result
 
 
 @cached(maxsize=256)
