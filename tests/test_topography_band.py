@@ -195,6 +195,18 @@ def test_the_areal_spectrum_is_surfacetopographys():
     assert np.median(np.abs(ours - np.log(C_st[5:-5]))) < 0.1
 
 
+def test_a_map_of_oblong_pixels_has_the_spectrum_of_its_square_pixelled_surface():
+    """Every other column of a periodic map dropped: pixels twice as long along y, the same surface, the
+    same C2D below the coarser axis's Nyquist wavevector (SurfaceTopography's PSD of the whole map)."""
+    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
+    q_st, C_st = surface.power_spectrum_from_area(nb_points_per_decade=10)
+    oblong = Topography(surface.heights()[:, ::2], (SIZE, SIZE), periodic=True)
+    c = tp.characterise(oblong, band=(8 * SIZE / 128, SIZE / 4))
+    below = (q_st > 2 * np.pi / (SIZE / 4)) & (q_st < 2 * np.pi / (8 * SIZE / 128))
+    ours = np.interp(np.log(q_st[below]), np.log(c.spectrum[0]), np.log(c.spectrum[1]))
+    assert np.median(np.abs(ours - np.log(C_st[below]))) < 0.1
+
+
 def test_white_noise_has_no_band_and_says_so():
     noise = Topography(np.random.default_rng(0).standard_normal((256, 256)) * 1e-7, (SIZE, SIZE), periodic=True)
     with pytest.raises(tp.NoBandError, match="no stretch of the spectrum has the slope of a self-affine surface"):

@@ -66,7 +66,8 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     **Arguments:** `path`, an areal topography file; `grid` and `realisations` of the BEM; the target
     contact `fractions`; `modulus`, E* in Pa (default two steel bodies, 210 GPa and ν = 0.3).
 
-    **Raises:** `SpectrumSkipped` for a line scan or a band the grid cannot hold.
+    **Raises:** `SpectrumSkipped` for a line scan, a map without a power-law band, or a band the grid
+    cannot hold.
     """
     from ..bem import BEM
     from ..bem._solver import REFERENCE_STEP
@@ -75,14 +76,17 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     from ..numerics import InputError
     from ..physics import MeasuredSpectrum
     from ..quantities import Material, Surface
-    from ..topography import Curvature, characterise, read, separate, spectrum_band, stiffness_band
+    from ..topography import Curvature, NoBandError, characterise, read, separate, spectrum_band, stiffness_band
     from ._compare import loads_for_fractions
 
     topography = read(path, fill_undefined=True)
     if topography.dim != 2:
         raise SpectrumSkipped("a line scan: the BEM needs an areal map")
     roughness = separate(topography, Curvature(), None).roughness
-    c = characterise(roughness)
+    try:
+        c = characterise(roughness)
+    except NoBandError as none:  # the power-law route, one of the comparisons, needs a band
+        raise SpectrumSkipped(str(none)) from None
     side = math.sqrt(float(np.prod(roughness.physical_sizes)))
     cut = max(c.band[0], PIXELS_PER_L_MIN * side / grid)
     try:

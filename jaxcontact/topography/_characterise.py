@@ -58,7 +58,8 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
         band = None if band is None else _checked_band(band, dx, length, kind, rows.shape[1])
         heights = kind.heights(rows)
         cutoff = topography.short_reliability_cutoff()
-        c = characterise_spectrum(topography, heights, dx, periodic, kind, band, D, cutoff)
+        spacing = spectra.grid_spacing(topography)
+        c = characterise_spectrum(topography, heights, spacing, periodic, kind, band, D, cutoff)
         return dataclasses.replace(c, diagnostics=c.diagnostics + implausible(float(np.std(rows)), c))
     blocks = kind.groups(rows, groups)
     periodic = periodic and len(blocks) == 1

@@ -97,6 +97,13 @@ def curvature(log_x, log_y):
     return np.polyfit(np.asarray(log_x), np.asarray(log_y).T, 2)[0]
 
 
+def grid_spacing(topography):
+    """The spacing (m) of a profile, or a map's per axis of its heights (pixels need not be square)."""
+    sizes = np.atleast_1d(np.asarray(topography.physical_sizes, dtype=float))
+    spacings = sizes / np.atleast_1d(topography.nb_grid_pts)
+    return float(spacings[0]) if spacings.size == 1 else tuple(float(x) for x in spacings)
+
+
 def rows_of(topography):
     """Line scans (along x) as rows, the spacing, the scan length, whether periodic, and the kind."""
     heights = np.asarray(topography.heights(), dtype=float)

@@ -24,8 +24,8 @@ MISMATCH = 3.0
 
 
 def _measured(topography, index: int):
-    rows, dx, _, periodic, kind = spectra.rows_of(topography)
-    spectrum = whole_spectrum(kind.heights(rows), dx, periodic)
+    rows, _, _, periodic, kind = spectra.rows_of(topography)
+    spectrum = whole_spectrum(kind.heights(rows), spectra.grid_spacing(topography), periodic)
     cutoff = topography.short_reliability_cutoff()
     law = select_band(spectrum, None if not cutoff else 2 * math.pi / cutoff, q_min=lowest_roughness_q(topography))
     if not isinstance(law, PowerLaw):

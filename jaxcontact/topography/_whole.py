@@ -31,7 +31,8 @@ class Spectrum:
     """A binned spectrum: `q` (rad/m, the bins' geometric means), `C` (mean periodogram, m⁴ areal
     or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (per bin, the variance of one
     mode's periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
-    measurement of a Gaussian surface); `kind` (`Areal()` or `Profile()`); `spacing` (m); `q_squared` (the
+    measurement of a Gaussian surface); `kind` (`Areal()` or `Profile()`); `spacing` (m, the coarser
+    axis's); `q_squared` (the
     bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q);
     `q_squared_cumulants` (the 2nd to 4th cumulants of q² over each bin's modes, B × 3: a bin's mean
     of a strong roll-off departs from its value at the mean q²)."""
@@ -72,9 +73,11 @@ def _detrended(heights: np.ndarray) -> np.ndarray:
     return heights - polynomial_fit(heights, DETREND_DEGREE if heights.ndim == 1 else 2)
 
 
-def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BINS_PER_DECADE) -> Spectrum:
-    """The binned spectrum of a whole profile (1-D `heights`) or map (2-D), grid spacing `spacing` (m)."""
+def whole_spectrum(heights, spacing, periodic: bool, per_decade: int = BINS_PER_DECADE) -> Spectrum:
+    """The binned spectrum of a whole profile (1-D `heights`) or map (2-D), grid spacing `spacing` (m):
+    one number, or one per axis of `heights` (a map's pixels need not be square)."""
     heights = np.asarray(heights, dtype=float)
+    spacings = np.broadcast_to(np.asarray(spacing, dtype=float), (heights.ndim,))
     if periodic:
         windowed = heights - heights.mean()
     else:
@@ -83,9 +86,9 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
             window = np.multiply.outer(window, np.hanning(n))
         windowed = _detrended(heights) * window / math.sqrt(np.mean(window**2))
     transform = np.fft.rfftn(windowed)
-    C = spacing**heights.ndim * np.abs(transform) ** 2 / heights.size
-    axes = [2 * np.pi * np.fft.fftfreq(n, spacing) for n in heights.shape[:-1]]
-    axes.append(2 * np.pi * np.fft.rfftfreq(heights.shape[-1], spacing))
+    C = float(np.prod(spacings)) * np.abs(transform) ** 2 / heights.size
+    axes = [2 * np.pi * np.fft.fftfreq(n, d) for n, d in zip(heights.shape[:-1], spacings[:-1])]
+    axes.append(2 * np.pi * np.fft.rfftfreq(heights.shape[-1], spacings[-1]))
     q = np.sqrt(sum(a**2 for a in np.meshgrid(*axes, indexing="ij")))
     # A real field's transform is Hermitian: an inner column of the half-spectrum stands for itself
     # and its mirror image (one independent mode, weight 2); the first (and a Nyquist) column holds
@@ -94,7 +97,9 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
     weight[..., 0] = 1.0
     if heights.shape[-1] % 2 == 0:
         weight[..., -1] = 1.0
-    lowest, highest = 2 * np.pi / (max(heights.shape) * spacing), np.pi / spacing
+    # Rings are whole up to the coarser axis's Nyquist wavevector; beyond it only the finer axis has modes.
+    lowest = 2 * np.pi / max(n * d for n, d in zip(heights.shape, spacings))
+    highest = np.pi / float(spacings.max())
     count = int(math.ceil(per_decade * math.log10(highest / lowest)))
     edges = np.geomspace(lowest * (1 - 1e-9), highest, count + 1)
     index = np.digitize(q.ravel(), edges) - 1
@@ -122,7 +127,7 @@ def whole_spectrum(heights, spacing: float, periodic: bool, per_decade: int = BI
         modes=modes,
         scatter=np.maximum(scatter, 1e-3),
         kind=Areal() if heights.ndim == 2 else Profile(),
-        spacing=spacing,
+        spacing=float(spacings.max()),
         q_squared=q_squared,
         q_squared_cumulants=np.stack([m2, m3, m4 - 3 * m2 * m2], axis=-1),
     )
