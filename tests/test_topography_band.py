@@ -207,6 +207,14 @@ def test_a_map_of_oblong_pixels_has_the_spectrum_of_its_square_pixelled_surface(
     assert np.median(np.abs(ours - np.log(C_st[below]))) < 0.1
 
 
+def test_a_band_shorter_than_two_of_a_maps_coarser_spacings_is_refused_with_the_range():
+    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
+    oblong = Topography(surface.heights()[:, ::2], (SIZE, SIZE), periodic=True)
+    shortest = 2 * SIZE / 128  # two spacings along y; along x two are half that
+    with pytest.raises(ValueError, match=rf"wavelengths must lie in \[{shortest:.3g}, "):
+        tp.characterise(oblong, band=(1.5 * SIZE / 128, SIZE / 4))
+
+
 def test_white_noise_has_no_band_and_says_so():
     noise = Topography(np.random.default_rng(0).standard_normal((256, 256)) * 1e-7, (SIZE, SIZE), periodic=True)
     with pytest.raises(tp.NoBandError, match="no stretch of the spectrum has the slope of a self-affine surface"):

@@ -55,10 +55,12 @@ def characterise(topography, *, band=None, method: str = "psd", groups: int | No
     if groups is not None and (isinstance(groups, bool) or not isinstance(groups, int) or groups < 3):
         raise InputError(f"{assigned('groups', repr(groups))} must be an integer >= 3 (independent groups)")
     if method == "psd":
-        band = None if band is None else _checked_band(band, dx, length, kind, rows.shape[1])
+        # A map's rings are whole to the coarser axis's Nyquist wavevector: two of its spacings.
+        spacing = spectra.grid_spacing(topography)
+        coarser = float(np.max(spacing))
+        band = None if band is None else _checked_band(band, coarser, length, kind, rows.shape[1])
         heights = kind.heights(rows)
         cutoff = topography.short_reliability_cutoff()
-        spacing = spectra.grid_spacing(topography)
         c = characterise_spectrum(topography, heights, spacing, periodic, kind, band, D, cutoff)
         return dataclasses.replace(c, diagnostics=c.diagnostics + implausible(float(np.std(rows)), c))
     blocks = kind.groups(rows, groups)
