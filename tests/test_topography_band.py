@@ -186,33 +186,40 @@ def test_a_2048_map_is_characterised_like_a_1024_one():
     assert abs(tp.characterise(make_map(1.5, "blur", 4.0, 0, grid=2048)).D - 1.5) < 0.03
 
 
-def test_the_areal_spectrum_is_surfacetopographys():
+@pytest.fixture(scope="module")
+def periodic_map():
+    """A periodic 256² map of D = 1.5."""
+    return tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
+
+
+@pytest.fixture(scope="module")
+def oblong_map(periodic_map):
+    """`periodic_map` with every other column dropped: the same surface, pixels twice as long along y."""
+    return Topography(periodic_map.heights()[:, ::2], (SIZE, SIZE), periodic=True)
+
+
+def test_the_areal_spectrum_is_surfacetopographys(periodic_map):
     """C2D in SurfaceTopography's convention: its radially averaged PSD of the same periodic map."""
-    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
+    surface = periodic_map
     q_st, C_st = surface.power_spectrum_from_area(nb_points_per_decade=10)
     c = tp.characterise(surface, band=(8 * SIZE / 256, SIZE / 4))
     ours = np.interp(np.log(q_st[5:-5]), np.log(c.spectrum[0]), np.log(c.spectrum[1]))
     assert np.median(np.abs(ours - np.log(C_st[5:-5]))) < 0.1
 
 
-def test_a_map_of_oblong_pixels_has_the_spectrum_of_its_square_pixelled_surface():
-    """Every other column of a periodic map dropped: pixels twice as long along y, the same surface, the
-    same C2D below the coarser axis's Nyquist wavevector (SurfaceTopography's PSD of the whole map)."""
-    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
-    q_st, C_st = surface.power_spectrum_from_area(nb_points_per_decade=10)
-    oblong = Topography(surface.heights()[:, ::2], (SIZE, SIZE), periodic=True)
-    c = tp.characterise(oblong, band=(8 * SIZE / 128, SIZE / 4))
+def test_a_map_of_oblong_pixels_has_the_spectrum_of_its_square_pixelled_surface(periodic_map, oblong_map):
+    """The same C2D below the coarser axis's Nyquist wavevector as SurfaceTopography's PSD of the whole map."""
+    q_st, C_st = periodic_map.power_spectrum_from_area(nb_points_per_decade=10)
+    c = tp.characterise(oblong_map, band=(8 * SIZE / 128, SIZE / 4))
     below = (q_st > 2 * np.pi / (SIZE / 4)) & (q_st < 2 * np.pi / (8 * SIZE / 128))
     ours = np.interp(np.log(q_st[below]), np.log(c.spectrum[0]), np.log(c.spectrum[1]))
     assert np.median(np.abs(ours - np.log(C_st[below]))) < 0.1
 
 
-def test_a_band_shorter_than_two_of_a_maps_coarser_spacings_is_refused_with_the_range():
-    surface = tp.areal_map(1.5, G_TRUE, SIZE, 256, seed=3)
-    oblong = Topography(surface.heights()[:, ::2], (SIZE, SIZE), periodic=True)
+def test_a_band_shorter_than_two_of_a_maps_coarser_spacings_is_refused_with_the_range(oblong_map):
     shortest = 2 * SIZE / 128  # two spacings along y; along x two are half that
     with pytest.raises(ValueError, match=rf"wavelengths must lie in \[{shortest:.3g}, "):
-        tp.characterise(oblong, band=(1.5 * SIZE / 128, SIZE / 4))
+        tp.characterise(oblong_map, band=(1.5 * SIZE / 128, SIZE / 4))
 
 
 def test_white_noise_has_no_band_and_says_so():

@@ -108,9 +108,10 @@ def rows_of(topography):
     """Line scans (along x) as rows, the spacing, the scan length, whether periodic, and the kind."""
     heights = np.asarray(topography.heights(), dtype=float)
     length = float(np.atleast_1d(topography.physical_sizes)[0])
+    dx = float(np.atleast_1d(grid_spacing(topography))[0])
     if heights.ndim == 1:
-        return heights[None, :], length / heights.size, length, bool(topography.is_periodic), Profile()
-    return heights.T, length / heights.shape[0], length, bool(topography.is_periodic), Areal()
+        return heights[None, :], dx, length, bool(topography.is_periodic), Profile()
+    return heights.T, dx, length, bool(topography.is_periodic), Areal()
 
 
 def binned_structure_function(blocks, dx, band):

@@ -32,10 +32,9 @@ class Spectrum:
     or m³ profile), `modes` (independent Fourier modes per bin), `scatter` (per bin, the variance of one
     mode's periodogram relative to its mean², times the window's correlation factor: 1 for a periodic
     measurement of a Gaussian surface); `kind` (`Areal()` or `Profile()`); `spacing` (m, the coarser
-    axis's); `q_squared` (the
-    bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin q² varies more than q);
-    `q_squared_cumulants` (the 2nd to 4th cumulants of q² over each bin's modes, B × 3: a bin's mean
-    of a strong roll-off departs from its value at the mean q²)."""
+    axis's); `q_squared` (the bins' mean q², where a roll-off `exp(-κ q²)` is evaluated: across a bin
+    q² varies more than q); `q_squared_cumulants` (the 2nd to 4th cumulants of q² over each bin's
+    modes, B × 3: a bin's mean of a strong roll-off departs from its value at the mean q²)."""
 
     q: np.ndarray
     C: np.ndarray
