@@ -232,21 +232,27 @@ def test_the_mirrored_map_of_a_symmetric_map_is_the_map_at_the_same_pressure():
 
 
 @pytest.fixture(scope="module")
-def windowed_spectra():
-    """300 windowed 64 × 48 maps (spacing 1 µm, heights of order 1 µm) of one Gaussian self-affine surface:
-    each map's spectrum."""
-    from jaxcontact.topography._whole import whole_spectrum
-
+def windowed_maps():
+    """300 windowed 64 × 48 maps (spacing 1 µm, heights of order 1 µm, m) of one Gaussian self-affine
+    surface, cut from periodic 256² fields."""
     rng = np.random.default_rng(0)
     q = np.hypot(np.fft.fftfreq(256)[:, None], np.fft.rfftfreq(256)[None, :])
     amplitude = np.where(q > 0, np.where(q > 0, q, 1.0) ** -(3 - D), 0.0)
-    spectra, scale = [], None
+    maps, scale = [], None
     for _ in range(300):
         field = (rng.normal(size=q.shape) + 1j * rng.normal(size=q.shape)) * amplitude
         heights = np.fft.irfft2(field, s=(256, 256))[:64, :48]
         scale = 1e-6 / heights.std() if scale is None else scale  # one scale for every map
-        spectra.append(whole_spectrum(heights * scale, 1e-6, periodic=False))
-    return spectra
+        maps.append(heights * scale)
+    return maps
+
+
+@pytest.fixture(scope="module")
+def windowed_spectra(windowed_maps):
+    """Each windowed map's spectrum."""
+    from jaxcontact.topography._whole import whole_spectrum
+
+    return [whole_spectrum(heights, 1e-6, periodic=False) for heights in windowed_maps]
 
 
 @pytest.fixture(scope="module")
@@ -340,3 +346,46 @@ def test_the_spectrums_band_is_no_narrower_than_the_scatter_between_maps(windowe
 def test_the_spectrums_band_is_within_twice_the_scatter_between_maps(windowed_bands):
     between, stated = windowed_bands
     assert np.all(stated < 2 * between), (stated, between)
+
+
+@pytest.fixture(scope="module")
+def two_routes(windowed_maps):
+    """On the first 100 windowed maps, characterised: Persson on the power-law route (the fitted D and
+    G, l_min 4 µm) and on the measured spectrum (its band's bins down to 4 µm), the joint the map's
+    area, at F* = 1e-5, 1e-4, 1e-3. Per route the scatter of ln K between the maps, and the power-law
+    band's median stated standard deviation (its 95 % half-width over the Student-t quantile)."""
+    from scipy import stats
+    from SurfaceTopography import Topography
+
+    from jaxcontact.topography import characterise, stiffness_band
+
+    material, area = jc.Material(E=E, nu=0.3, H=3e9), 64e-6 * 48e-6
+    loads = np.array([1e-5, 1e-4, 1e-3]) * E * area
+    power_law, measured, stated = [], [], []
+    for heights in windowed_maps[:100]:
+        c = characterise(Topography(heights, (64e-6, 48e-6), periodic=False, unit="m"))
+        scene = jc.Scene(jc.Surface(D=c.D, G=c.G, l_min=max(c.band[0], 4e-6)), material, area)
+        band = stiffness_band(c, scene.with_model(jc.Persson()), loads)
+        table = jc.MeasuredSpectrum.from_characterisation(c, shortest=4e-6)
+        on_table = jc.solve(scene.with_model(jc.Persson(spectrum=table)), loads)
+        assert np.all(band.status == 0) and np.all(np.asarray(on_table.status) == 0)
+        power_law.append(np.log(band.stiffness))
+        measured.append(np.log(np.asarray(on_table.stiffness)))
+        stated.append(np.log(band.upper / band.stiffness) / stats.t.ppf(0.975, c.dof))
+    scatter = lambda log_K: np.std(log_K, axis=0, ddof=1)  # noqa: E731
+    return scatter(power_law), scatter(measured), np.median(stated, axis=0)
+
+
+def test_the_power_laws_band_is_no_narrower_than_its_scatter_between_maps(two_routes):
+    # 1.25 times the scatter measured (known to 7 % from 100 maps).
+    power_law, _, stated = two_routes
+    assert np.all(stated > power_law), (stated, power_law)
+
+
+def test_on_a_self_affine_surface_the_measured_spectrum_scatters_more_than_the_power_law(two_routes):
+    # 1.63 times measured (2.1 on 100 maps of 128 x 96): K on the map's area depends on the longest measured
+    # wavelengths, which the table takes from bins of a few modes each and the power law from its fit
+    # over the whole band. No band of the table that holds its own scatter is narrower than an honest
+    # band of the power law on such a surface.
+    power_law, measured, _ = two_routes
+    assert np.all(measured > 1.3 * power_law), (measured, power_law)
