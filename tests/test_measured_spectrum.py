@@ -2,7 +2,8 @@
 table against the closed-form (D, G, l_min) models, a spectrum with a kink and a roll-off against scipy's quadrature of
 Persson's integrals in q, the derivative in the table's values against central differences, float32,
 a synthesised map's characterisation, the spectrum's variance and K band against the scatter between
-300 maps of one surface, bad tables."""
+300 maps of one surface, the scatter of K between maps on the table and on the power-law route, bad
+tables."""
 
 import math
 
