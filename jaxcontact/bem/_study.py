@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..numerics._validate import check_choice
+from ..numerics._validate import InputError, check_choice
 from ._cache import ResultCache
 from ._solver import BEMResult, BEMSettings, bem_stiffness
 from ._surfaces import check_grid, check_grid_points, check_realisations, coarsened, synthesised_surface
@@ -84,13 +84,23 @@ REFERENCES = ("jax", "contactmechanics")
 
 def jax_curve(topography, modulus: float, loads, settings: BEMSettings = BEMSettings()) -> BEMResult:
     """`bem_stiffness`'s result by the JAX solve (`solve`) on a periodic map: the same secant in ln F
-    (`settings.relative_step`), the same status codes."""
+    (`settings.relative_step`), the same status codes.
+
+    **Raises:** `ValueError` for a map that is not square or whose pixels are not (`bem_stiffness`
+    takes those)."""
     import jax.numpy as jnp
 
     from ._contact import solve
 
+    (nx, ny), (lx, ly) = topography.nb_grid_pts, (float(s) for s in topography.physical_sizes)
+    # The JAX solve's kernel is that of a square of square pixels: on any other map its K is wrong.
+    if nx != ny or abs(lx - ly) > 1e-9 * lx:
+        raise InputError(
+            f"the map has {nx} x {ny} points over {lx:.6g} x {ly:.6g} m: the JAX solve takes a square map of "
+            "square pixels (equal points and sides); bem_stiffness (ContactMechanics) takes any"
+        )
     heights = jnp.asarray(topography.heights())
-    size = float(topography.physical_sizes[0])
+    size = lx
     loads = np.atleast_1d(np.asarray(loads, dtype=float))
     sol = solve(heights, size, modulus, jnp.asarray(loads, heights.dtype), secant=settings.relative_step)
     return BEMResult(
