@@ -1,7 +1,7 @@
 """The measured spectrum as the models' input on real maps (docs/validation.md): on two of the real
 files, on 128² (the command's default), Persson's theory on the map's measured spectrum within ±30 % of the BEM on
-periodic realisations of the same spectrum; the command on a line scan says why it skips it.
-Skipped where ../shared/data is absent."""
+periodic realisations of the same spectrum, also on a map without a power-law band (x3p-2); the
+command on a line scan says why it skips it. Skipped where ../shared/data is absent."""
 
 import pathlib
 
@@ -57,3 +57,24 @@ def test_the_measured_spectrums_band_against_the_power_laws_is_as_documented(row
     measured = width("spectrum_band_low_over_bem", "spectrum_band_high_over_bem")
     power_law = width("power_law_band_low_over_bem", "power_law_band_high_over_bem")
     assert bool(np.all(measured < power_law)) == NARROWER[rows[0]["file"]], (measured, power_law)
+
+
+@pytest.fixture(scope="module")
+def without_band():
+    """x3p-2, whose spectrum (its pixels 2.5:1) has no power-law band: the measured route alone."""
+    return spectrum_validation(FILES / "x3p-2.x3p", grid=128, realisations=3)
+
+
+def test_on_a_map_without_a_power_law_band_persson_is_within_30_percent_of_the_bem(without_band):
+    # 0.73-1.09 measured with 3 realisations, 0.73-1.08 with 8. With 2, the BEM's 15 % spread between
+    # realisations at 1 % contact puts the first at 0.66.
+    ratios = np.array([row["persson_spectrum_over_bem"] for row in without_band])
+    assert np.all((ratios > 0.7) & (ratios < 1.3)), ratios
+
+
+def test_a_map_without_a_power_law_band_has_no_power_law_route(without_band):
+    assert np.all(np.isnan([row["persson_power_law_over_bem"] for row in without_band]))
+
+
+def test_a_map_without_a_power_law_band_says_so_in_each_rows_status(without_band):
+    assert all(row["status"].endswith("power_law: the map has no power-law band") for row in without_band)

@@ -2,8 +2,10 @@
 
 For one areal file: read it (undefined points filled), remove its form (`Curvature()`), characterise
 it, and take its binned C2D over the band, cut where the BEM's grid stops resolving it (`l_min` at 4
-grid spacings of the map's side), as a `MeasuredSpectrum` rolled off below. The joint is the map's
-area. At loads where Persson's theory on that spectrum puts the contact at each of `fractions`:
+grid spacings of the map's side), as a `MeasuredSpectrum` rolled off below. A map without a
+power-law band has no power-law route (its columns NaN, its status says why); its table is then the
+whole binned spectrum, from the map's longest wavelength to the cut. The joint is the map's area.
+At loads where Persson's theory on that spectrum puts the contact at each of `fractions`:
 
 - the BEM on `realisations` periodic realisations of the same spectrum (`BEM(spectrum=...)`): their
   mean K, its spread and their contact fraction;
@@ -52,12 +54,21 @@ def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: fl
     return np.where(np.asarray(solution.status) == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan)
 
 
-def _status(statuses: dict, i: int) -> str:
-    """ "ok", or each route whose point i is flagged, with its status."""
+def _whole_table(spectrum, cut: float):
+    """A `MeasuredSpectrum` of a map's whole binned spectrum (`NoBandError.spectrum`), from its
+    longest wavelength to `cut` (m), each bin with its variance of ln C."""
+    from ..physics import MeasuredSpectrum
+
+    keep = (spectrum.modes > 0) & (spectrum.C > 0) & (spectrum.q <= 2 * math.pi / cut * (1 + 1e-9))
+    return MeasuredSpectrum(spectrum.q[keep], spectrum.C[keep], variance=spectrum.log_variance[keep])
+
+
+def _status(statuses: dict, i: int, missing: tuple[str, ...] = ()) -> str:
+    """ "ok", or each route whose point i is flagged, with its status, and each `missing` one's reason."""
     from ..quantities import status_message
 
     flagged = [f"{k} {status_message(int(v[i]))}" for k, v in statuses.items() if int(np.asarray(v)[i]) != 0]
-    return "; ".join(flagged) or "ok"
+    return "; ".join(flagged + list(missing)) or "ok"
 
 
 def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractions=FRACTIONS, modulus=None):
@@ -66,8 +77,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     **Arguments:** `path`, an areal topography file; `grid` and `realisations` of the BEM; the target
     contact `fractions`; `modulus`, E* in Pa (default two steel bodies, 210 GPa and ν = 0.3).
 
-    **Raises:** `SpectrumSkipped` for a line scan, a map without a power-law band, or a band the grid
-    cannot hold.
+    **Raises:** `SpectrumSkipped` for a line scan, or a band the grid cannot hold.
     """
     from ..bem import BEM
     from ..bem._solver import REFERENCE_STEP
@@ -76,26 +86,41 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     from ..numerics import InputError
     from ..physics import MeasuredSpectrum
     from ..quantities import Material, Surface
-    from ..topography import Curvature, NoBandError, characterise, read, separate, spectrum_band, stiffness_band
+    from ..topography import (
+        Curvature,
+        NoBandError,
+        StiffnessBand,
+        characterise,
+        read,
+        separate,
+        spectrum_band,
+        stiffness_band,
+    )
     from ._compare import loads_for_fractions
 
     topography = read(path, fill_undefined=True)
     if topography.dim != 2:
         raise SpectrumSkipped("a line scan: the BEM needs an areal map")
     roughness = separate(topography, Curvature(), None).roughness
+    side = math.sqrt(float(np.prod(roughness.physical_sizes)))
     try:
         c = characterise(roughness)
-    except NoBandError as none:  # the power-law route, one of the comparisons, needs a band
-        raise SpectrumSkipped(str(none)) from None
-    side = math.sqrt(float(np.prod(roughness.physical_sizes)))
-    cut = max(c.band[0], PIXELS_PER_L_MIN * side / grid)
+    except NoBandError as none:  # no power-law route: the measured one alone, on the whole spectrum
+        c, no_band = None, none
+    cut = max(0.0 if c is None else c.band[0], PIXELS_PER_L_MIN * side / grid)
     try:
-        spectrum = MeasuredSpectrum.from_characterisation(c, shortest=cut)
+        spectrum = (
+            _whole_table(no_band.spectrum, cut)
+            if c is None
+            else MeasuredSpectrum.from_characterisation(c, shortest=cut)
+        )
     except InputError as too_few:  # a band the grid cannot hold
         raise SpectrumSkipped(f"{too_few}, the shortest wavelength the grid resolves") from None
     E = 210e9 / (1 - 0.3**2) if modulus is None else modulus
-    # Every model compared is elastic: the hardness is not used.
-    scene = Scene(Surface(D=c.D, G=c.G, l_min=cut), Material(E=E, nu=0.3, H=3e9), side * side)
+    # Every model compared is elastic: the hardness is not used. Without a power-law band the
+    # surface's D and G are placeholders: every model then solves on the table.
+    surface = Surface(D=1.5, G=1e-12, l_min=cut) if c is None else Surface(D=c.D, G=c.G, l_min=cut)
+    scene = Scene(surface, Material(E=E, nu=0.3, H=3e9), side * side)
     measured = scene.with_model(Persson(spectrum=spectrum))
     loads = loads_for_fractions(scene, fractions, spectrum)
     bem = [
@@ -112,17 +137,20 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     # Persson on the measured spectrum, with its band from the spectrum's own uncertainty.
     persson = spectrum_band(measured, loads)
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
-    band = stiffness_band(c, scene.with_model(Persson()), loads)
+    band = None if c is None else stiffness_band(c, scene.with_model(Persson()), loads)
     mean = K.mean(axis=0)
     mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
     mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
     name = pathlib.Path(path).name
     statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
+    if band is None:
+        nan = np.full_like(mean, np.nan)
+        band = StiffnessBand(loads, nan, nan, nan, np.zeros(len(loads), int))
     statuses["power_law"] = band.status
     return [
         {
             "file": name,
-            "D": c.D,
+            "D": math.nan if c is None else c.D,
             "l_min_m": cut,
             "load_N": float(loads[i]),
             "contact_fraction_bem": float(area[:, i].mean()),
@@ -136,7 +164,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
             "persson_power_law_over_bem": float(band.stiffness[i] / mean[i]),
             "power_law_band_low_over_bem": float(band.lower[i] / mean[i]),
             "power_law_band_high_over_bem": float(band.upper[i] / mean[i]),
-            "status": _status(statuses, i),
+            "status": _status(statuses, i, () if c is not None else ("power_law: the map has no power-law band",)),
         }
         for i in range(len(loads))
     ]
