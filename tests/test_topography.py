@@ -244,3 +244,43 @@ def test_a_straight_band_that_agrees_with_the_corrected_one_stands(name):
     within their combined standard error (0.19 and 0.08 of it): the better determined straight band
     is kept."""
     assert tp.characterise(tp.read(TOPOGRAPHIES / name, fill_undefined=True)).rolloff is None
+
+
+@pytest.fixture(scope="module")
+def run_without_band(tmp_path_factory):
+    """`run --topography x3p-2.x3p` (a map without a power-law band) on its default route: JSON rows
+    and notes."""
+    import contextlib
+    import io
+
+    folder = tmp_path_factory.mktemp("x3p")
+    argv = ["run", "--topography", str(TOPOGRAPHIES / "x3p-2.x3p"), "--out", str(folder), "--format", "json"]
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        assert main([*argv, "--no-progress"]) == 0
+    payload = json.loads(out.getvalue())
+    return payload["rows"], payload["notes"]
+
+
+@needs_topographies
+def test_a_map_without_a_power_law_band_runs_on_its_whole_measured_spectrum(run_without_band):
+    _, notes = run_without_band
+    assert any("of the whole map" in note and "no power-law band" in note for note in notes), notes
+
+
+@needs_topographies
+def test_a_map_without_a_power_law_band_has_its_stiffness_band_at_every_load(run_without_band):
+    rows, _ = run_without_band
+    assert all(row["K_lower_95_N_per_m"] < row["K_N_per_m"] < row["K_upper_95_N_per_m"] for row in rows)
+
+
+@needs_topographies
+def test_a_map_without_a_power_law_band_leaves_out_the_models_that_need_one(run_without_band):
+    _, notes = run_without_band
+    assert {note.split(":")[0] for note in notes if "takes D, G, l_min only" in note} == {"xia2024", "jzz2010"}
+
+
+@needs_topographies
+def test_the_power_law_route_on_a_map_without_a_band_suggests_one(tmp_path, capsys):
+    argv = ["run", "--topography", str(TOPOGRAPHIES / "x3p-2.x3p"), "--route", "power-law", "--out", str(tmp_path)]
+    code, err = _cli_one_line(capsys, argv)
+    assert (code, "--band 4.56e-06 4.01e-05" in err) == (2, True), err

@@ -87,6 +87,22 @@ def _with_spectrum(scene, spectrum):
     return eqx.tree_at(lambda s: s.model.spectrum, scene, spectrum, is_leaf=lambda x: x is None)
 
 
+def _characterised(args, spectrum_route: bool):
+    """The file's topography, its characterisation and, where it has no power-law band and the route
+    needs none, the `NoBandError` (whose `spectrum` is the map's whole) with the characterisation over
+    the closest window it suggests; otherwise None."""
+    from ..topography import NoBandError, characterise
+    from ._surface_commands import read_file
+
+    topography = read_file(args, args.topography)
+    try:
+        return topography, characterise(topography, band=args.band, groups=args.groups), None
+    except NoBandError as none:
+        if not spectrum_route or none.band is None or none.spectrum.kind.name != "areal":
+            raise
+        return topography, characterise(topography, band=none.band, groups=args.groups), none
+
+
 def topography_run(spec, args):
     """The scene of `spec` on the characterised surface with the chosen model and material, K(F)'s 95 %
     band, the other models' solutions at the same loads (by name), and notes (one line each). On the
@@ -98,23 +114,37 @@ def topography_run(spec, args):
     from ..physics import MeasuredSpectrum
     from ..quantities import Surface
     from ..topography import spectrum_band, stiffness_band
-    from ._surface_commands import CLOSEST_TO_BEM, characterise_file
+    from ._surface_commands import CLOSEST_TO_BEM
 
-    topography, c = characterise_file(args)
-    surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
     model = args.model or CLOSEST_TO_BEM
     measured = (args.route or "spectrum") == "spectrum"
-    spectrum = MeasuredSpectrum.from_characterisation(c, shortest=float(surface.l_min)) if measured else None
+    topography, c, whole = _characterised(args, measured and model in SPECTRUM_MODELS)
+    surface = Surface(D=c.D, G=c.G, l_min=c.l_min if args.l_min is None else args.l_min)
+    spectrum = None
+    if measured:
+        shortest = float(surface.l_min)
+        spectrum = (
+            MeasuredSpectrum.from_characterisation(c, shortest=shortest)
+            if whole is None
+            else MeasuredSpectrum.from_binned(whole.spectrum, shortest=shortest)
+        )
     scene = _scene(spec.scene, model, surface, args)
     name = pathlib.Path(args.topography).name
-    title = f"{name}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {surface.l_min:.4g} m; model {model}"
+    fitted = f"D = {c.D:.4f}, G = {c.G:.4g} m (W-M)" + ("" if whole is None else " over the closest window")
+    title = f"{name}: {fitted}, l_min = {surface.l_min:.4g} m; model {model}"
     why = " (the closest to the boundary-element reference, docs/validation.md; --model to choose)"
     notes = [f"model: {model}" + ("" if args.model else why), topography.info["separation"]]
     if measured and model in SPECTRUM_MODELS:
         scene = _with_spectrum(scene, spectrum)
         band = spectrum_band(scene, spec.loads)
+        table = (
+            "over the band"
+            if whole is None
+            else "of the whole map, from its longest wavelength to l_min: it has no power-law band, and D and G of "
+            f"the closest window ({c.band[0]:.3g}-{c.band[1]:.3g} m) are not used"
+        )
         notes.append(
-            f"route: the measured spectrum ({spectrum.log_q.size} bins over the band, rolled off below; 95 % band "
+            f"route: the measured spectrum ({spectrum.log_q.size} bins {table}; rolled off below; 95 % band "
             f"from each bin's uncertainty); on the real areal maps {model} on this route was "
             f"{MEASURED_AGREEMENT[model]} (docs/validation.md); --route power-law for D, G, l_min"
         )
@@ -123,15 +153,19 @@ def topography_run(spec, args):
         reason = f"{model} takes D, G, l_min only" if measured else "--route power-law"
         notes.append(f"route: the power law fitted to the spectrum ({reason}; 95 % band from D and G's covariance)")
     others = {}
+    # On a map without a power-law band, the models that take D, G, l_min alone have no surface.
+    no_band = "the map has no power-law band, and it takes D, G, l_min only"
+    left_out = {k: NOT_COMPARED.get(k, no_band) for k in MODELS if k in NOT_COMPARED or whole is not None}
+    left_out = {k: v for k, v in left_out.items() if k not in SPECTRUM_MODELS}
     for other in MODELS:
-        if other == model or other in NOT_COMPARED:
+        if other == model or other in left_out:
             continue
         other_scene = _scene(spec.scene, other, surface, args)
         if measured and other in SPECTRUM_MODELS:
             other_scene = _with_spectrum(other_scene, spectrum)
         others[other] = solve(other_scene, spec.loads)
     notes += [note for note in (zero_note(k, solution) for k, solution in others.items()) if note]
-    notes += [f"{k}: not compared: {why}" for k, why in NOT_COMPARED.items() if k != model]
+    notes += [f"{k}: not compared: {why}" for k, why in left_out.items() if k != model]
     notes.append(form_check(topography, scene, spectrum))
     spec = dataclasses.replace(spec, scene=scene, title=title)
     return spec, band, others, notes

@@ -140,6 +140,26 @@ class MeasuredSpectrum(eqx.Module):
         variance = getattr(characterisation, "spectrum_variance", None)
         return cls(q[inside], C[inside], long_end, None if variance is None else np.asarray(variance)[inside])
 
+    @classmethod
+    def from_binned(cls, spectrum, long_end: AbstractLongEnd = Rolloff(), shortest: float | None = None):
+        """Every bin with modes of an areal map's binned spectrum (`q`, `C`, `modes`, `log_variance`:
+        the `spectrum` of `jaxcontact.topography.NoBandError`, what `characterise` measured on a map
+        without a power-law band), from the map's longest wavelength to the wavelength `shortest`
+        (m; default its shortest), each with its variance of ln C.
+
+        **Raises:** `ValueError` for a profile's spectrum, and for fewer than 2 bins."""
+        if getattr(spectrum.kind, "name", "") != "areal":
+            raise InputError(
+                f"the spectrum is a {spectrum.kind.name} one: a measured spectrum needs an areal map's C2D"
+            )
+        q, C = np.asarray(spectrum.q, dtype=float), np.asarray(spectrum.C, dtype=float)
+        keep = (np.asarray(spectrum.modes) > 0) & (C > 0)
+        if shortest is not None:
+            keep &= q <= 2 * math.pi / shortest * (1 + 1e-9)
+        if keep.sum() < 2:
+            raise InputError(f"the spectrum holds fewer than 2 bins longer than {shortest:.3g} m")
+        return cls(q[keep], C[keep], long_end, np.asarray(spectrum.log_variance)[keep])
+
     def _pieces(self, log_length):
         """The piecewise power law in the scene's units: per piece (the long end's from `q0* = 2π`
         to the first point, then every bin) its ends in `t = ln q*`, cut at `q0*`, and `ln C*` as

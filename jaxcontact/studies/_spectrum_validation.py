@@ -54,15 +54,6 @@ def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: fl
     return np.where(np.asarray(solution.status) == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan)
 
 
-def _whole_table(spectrum, cut: float):
-    """A `MeasuredSpectrum` of a map's whole binned spectrum (`NoBandError.spectrum`), from its
-    longest wavelength to `cut` (m), each bin with its variance of ln C."""
-    from ..physics import MeasuredSpectrum
-
-    keep = (spectrum.modes > 0) & (spectrum.C > 0) & (spectrum.q <= 2 * math.pi / cut * (1 + 1e-9))
-    return MeasuredSpectrum(spectrum.q[keep], spectrum.C[keep], variance=spectrum.log_variance[keep])
-
-
 def _status(statuses: dict, i: int, missing: tuple[str, ...] = ()) -> str:
     """ "ok", or each route whose point i is flagged, with its status, and each `missing` one's reason."""
     from ..quantities import status_message
@@ -110,7 +101,7 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     cut = max(0.0 if c is None else c.band[0], PIXELS_PER_L_MIN * side / grid)
     try:
         spectrum = (
-            _whole_table(no_band.spectrum, cut)
+            MeasuredSpectrum.from_binned(no_band.spectrum, shortest=cut)
             if c is None
             else MeasuredSpectrum.from_characterisation(c, shortest=cut)
         )

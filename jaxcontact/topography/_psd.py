@@ -23,6 +23,11 @@ class NoBandError(InputError):
         super().__init__(message)
         self.spectrum, self.local_slope, self.suggestion = spectrum, local_slope, suggestion
 
+    @property
+    def band(self) -> tuple[float, float] | None:
+        """The band suggested (short, long wavelength, m) as the message gives it, or None."""
+        return _suggested_band(self.suggestion)
+
 
 def _D_logG(spectrum, slope: float, intercept: float):
     D = float(spectrum.D_of(slope))
@@ -53,10 +58,15 @@ def _outward(value: float, up: bool) -> float:
     return (math.ceil if up else math.floor)(value / scale) * scale
 
 
+def _suggested_band(suggested) -> tuple[float, float] | None:
+    """The closest window (short, long wavelength, m) rounded outward, or None."""
+    return None if suggested is None else (_outward(suggested[0], up=False), _outward(suggested[1], up=True))
+
+
 def _suggestion(spectrum, suggested) -> str:
     if suggested is None:
         return "no stretch of the spectrum has the slope of a self-affine surface (1 < D < 2)"
-    short, long = _outward(suggested[0], up=False), _outward(suggested[1], up=True)
+    short, long = _suggested_band(suggested)
     return "the closest to a power law is " + spelled(
         f"band=({short:.3g}, {long:.3g})", f"--band {short:.3g} {long:.3g}"
     )
