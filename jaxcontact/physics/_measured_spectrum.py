@@ -141,7 +141,9 @@ class MeasuredSpectrum(eqx.Module):
         return cls(q[inside], C[inside], long_end, None if variance is None else np.asarray(variance)[inside])
 
     @classmethod
-    def from_binned(cls, spectrum, long_end: AbstractLongEnd = Rolloff(), shortest: float | None = None):
+    def from_binned(
+        cls, spectrum, long_end: AbstractLongEnd = Rolloff(), shortest: float | None = None
+    ) -> MeasuredSpectrum:
         """Every bin with modes of an areal map's binned spectrum (`q`, `C`, `modes`, `log_variance`:
         the `spectrum` of `jaxcontact.topography.NoBandError`, what `characterise` measured on a map
         without a power-law band), from the map's longest wavelength to the wavelength `shortest`
