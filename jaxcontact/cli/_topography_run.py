@@ -186,8 +186,6 @@ def form_check(roughness, scene, spectrum) -> str:
         return "form check: none for a line scan (the BEM needs an areal map)"
     loads = loads_for_fractions(scene, FRACTIONS, spectrum)
     K = mirrored_map_stiffness(roughness, FORM_CHECK_GRID, float(scene.material.E), loads, float(scene.area))
-    if K is None:
-        return "form check: none (the map's pixels are not square)"
     ok = np.isfinite(K) & (K > 0)
     if ok.sum() < 2:
         return "form check: the BEM on the map gave fewer than two values"

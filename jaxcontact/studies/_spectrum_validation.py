@@ -12,9 +12,9 @@ At loads where Persson's theory on that spectrum puts the contact at each of `fr
 - Persson and GW on the spectrum, Persson's 95 % band from the spectrum's own uncertainty
   (`topography.spectrum_band`), and Persson on the power-law route (the fitted D and G, l_min at the
   same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean;
-- the BEM on the map itself, made periodic by its mirror images: the largest square of it (square
-  pixels only), mirrored, Fourier-truncated to `2 grid` points a side (so that it holds wavelengths
-  down to 2 grid spacings of the square, shorter than the table's cut), at the same nominal pressure.
+- the BEM on the map itself, made periodic by its mirror images: the largest square of it, mirrored,
+  Fourier-truncated to `2 grid` points a side (so that it holds wavelengths down to 2 grid spacings
+  of the square, shorter than the table's cut) and to square pixels, at the same nominal pressure.
 """
 
 from __future__ import annotations
@@ -35,20 +35,25 @@ class SpectrumSkipped(Exception):
 
 def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
     """K (N/m, NaN where not ok) of the mirrored map at `loads` on the joint's `area` (module
-    docstring), or None for a map whose pixels are not square."""
+    docstring). A map of oblong pixels is first cut to its largest square and mirrored, then
+    Fourier-truncated along its finer axis to the coarser spacing: square pixels, each of the coarser
+    spacing, holding every wavelength both axes resolve."""
     from ..bem import solve
     from ..topography._separate import mirror_tiled
 
     z = np.asarray(roughness.heights(), dtype=float)
-    (nx, ny), (lx, ly) = z.shape, roughness.physical_sizes
-    if abs(lx / nx - ly / ny) > 1e-3 * lx / nx:
-        return None
-    m = min(nx, ny)
-    tiled = mirror_tiled(z[:m, :m] - z[:m, :m].mean())
-    n = min(2 * grid, 2 * m)
-    kept = np.r_[0 : n // 2, 2 * m - n // 2 : 2 * m]
-    heights = np.real(np.fft.ifft2(np.fft.fft2(tiled)[np.ix_(kept, kept)])) * (n / (2 * m)) ** 2
-    side = m * lx / nx
+    sizes = np.asarray(roughness.physical_sizes, dtype=float)
+    spacing = sizes / np.asarray(z.shape)
+    side = float(sizes.min())
+    # The largest square, in points along each axis; its mirror image is periodic.
+    points = np.minimum(np.rint(side / spacing).astype(int), z.shape)
+    square = z[: points[0], : points[1]]
+    tiled = mirror_tiled(square - square.mean())
+    # Square pixels of the coarser spacing (no more than 2 × grid a side): the Fourier modes both
+    # axes hold, each axis's first and last halves kept.
+    n = int(min(2 * grid, 2 * points.min()))
+    kept = [np.r_[0 : n // 2, 2 * m - n // 2 : 2 * m] for m in points]
+    heights = np.real(np.fft.ifft2(np.fft.fft2(tiled)[np.ix_(*kept)])) * n * n / tiled.size
     # The same nominal pressure on the mirrored square (four times the square's area).
     solution = solve(heights, 2 * side, modulus, 4 * np.asarray(loads) * side**2 / area)
     return np.where(np.asarray(solution.status) == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan)
@@ -131,7 +136,6 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     band = None if c is None else stiffness_band(c, scene.with_model(Persson()), loads)
     mean = K.mean(axis=0)
     mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
-    mirrored = np.full_like(mean, np.nan) if mirrored is None else mirrored
     name = pathlib.Path(path).name
     statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
     if band is None:
