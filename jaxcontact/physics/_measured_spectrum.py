@@ -159,7 +159,8 @@ class MeasuredSpectrum(eqx.Module):
         if shortest is not None:
             keep &= q <= 2 * math.pi / shortest * (1 + 1e-9)
         if keep.sum() < 2:
-            raise InputError(f"the spectrum holds fewer than 2 bins longer than {shortest:.3g} m")
+            longer = "" if shortest is None else f" longer than {shortest:.3g} m"
+            raise InputError(f"the spectrum holds fewer than 2 bins with modes{longer}: a table needs at least 2")
         return cls(q[keep], C[keep], long_end, np.asarray(spectrum.log_variance)[keep])
 
     def _pieces(self, log_length):
