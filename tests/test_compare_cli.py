@@ -102,6 +102,12 @@ def test_compare_on_a_measured_map(measured_map, capsys, tmp_path):
     assert "BEM on the measured heights, 128 x 128, coarsened 4x to --grid 128" in capsys.readouterr().out
 
 
+def test_a_free_substrate_says_its_k_measures_the_maps_size(measured_map, capsys, tmp_path):
+    argv = ["compare", "--topography", str(measured_map), *MAP_ARGV, "--grid", "32", "--substrate", "free"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    assert "its K measures the map's own size" in capsys.readouterr().out
+
+
 @pytest.fixture(scope="module")
 def measured_rows(measured_map, tmp_path_factory):
     out = tmp_path_factory.mktemp("measured")

@@ -70,6 +70,13 @@ def form_note(loads, stiffness) -> str | None:
     )
 
 
+# What a free substrate's K is of: the map, not the joint.
+FREE_WORDS = (
+    ", the map alone on a free half-space: its K measures the map's own size (it tends to a flat punch of "
+    "the map's side as contact grows), not the joint's; --substrate mirrored for a periodic map"
+)
+
+
 def compare_measured(args, out, cache, progress) -> int:
     import equinox as eqx
     import numpy as np
@@ -131,6 +138,7 @@ def compare_measured(args, out, cache, progress) -> int:
         f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
         + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
         + (", the map and its mirror images: a periodic map of twice its side" if args.substrate == "mirrored" else "")
+        + (FREE_WORDS if args.substrate == "free" else "")
         + f")\n{separation}\n"
         f"{comparison_table(rows, list(comparison.models))}\n"
         + (
