@@ -93,6 +93,12 @@ def test_a_non_periodic_measured_map_needs_a_substrate(measured_map, capsys, tmp
     assert "not periodic: choose --substrate free (an isolated" in capsys.readouterr().err
 
 
+def test_the_refusal_of_a_non_periodic_map_points_to_the_realisations_of_its_spectrum(measured_map, capsys, tmp_path):
+    argv = ["compare", "--topography", str(measured_map), "--size", "1e-4", "1e-4", "--out", str(tmp_path)]
+    assert main([*argv, "--no-progress"]) == 2
+    assert "validate-spectrum FILE` solves the BEM on periodic realisations" in capsys.readouterr().err
+
+
 MAP_ARGV = ["--size", "1e-4", "1e-4", "--substrate", "periodic", "--no-fit", "--grid", "128", "--no-progress"]
 
 

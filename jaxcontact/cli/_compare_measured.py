@@ -91,6 +91,13 @@ def compare_measured(args, out, cache, progress) -> int:
     separation = topography.info["separation"]
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
+    if args.substrate is None and not topography.is_periodic:
+        raise CommandError(
+            f"{args.topography} is not periodic: choose --substrate free (an isolated half-space; its K measures "
+            "the map's own size), periodic (the map repeated; its edges meet as a step) or mirrored (the map and "
+            "its mirror images); `jaxcontact validate-spectrum FILE` solves the BEM on periodic realisations of "
+            "its measured spectrum instead"
+        )
     topography, coarsening = _on_grid(topography, args.grid)
     spec = compare_spec(args)
     lx, ly = topography.physical_sizes
