@@ -155,8 +155,11 @@ def topography_run(spec, args):
     others = {}
     # On a map without a power-law band, the models that take D, G, l_min alone have no surface.
     no_band = "the map has no power-law band, and it takes D, G, l_min only"
-    left_out = {k: NOT_COMPARED.get(k, no_band) for k in MODELS if k in NOT_COMPARED or whole is not None}
-    left_out = {k: v for k, v in left_out.items() if k not in SPECTRUM_MODELS}
+    left_out = {
+        k: NOT_COMPARED.get(k, no_band)
+        for k in MODELS
+        if k in NOT_COMPARED or (whole is not None and k not in SPECTRUM_MODELS)
+    }
     for other in MODELS:
         if other == model or other in left_out:
             continue

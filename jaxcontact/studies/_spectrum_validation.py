@@ -40,11 +40,11 @@ def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: fl
     spacing, holding every wavelength both axes resolve."""
     from ..bem import solve
     from ..topography._separate import mirror_tiled
+    from ..topography._spectra import grid_spacing
 
     z = np.asarray(roughness.heights(), dtype=float)
-    sizes = np.asarray(roughness.physical_sizes, dtype=float)
-    spacing = sizes / np.asarray(z.shape)
-    side = float(sizes.min())
+    spacing = np.asarray(grid_spacing(roughness))
+    side = float(np.min(roughness.physical_sizes))
     # The largest square, in points along each axis; its mirror image is periodic.
     points = np.minimum(np.rint(side / spacing).astype(int), z.shape)
     square = z[: points[0], : points[1]]
