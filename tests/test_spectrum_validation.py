@@ -1,7 +1,8 @@
 """The measured spectrum as the models' input on real maps (docs/validation.md): on two of the real
-files, on 128² (the command's default), Persson's theory on the map's measured spectrum within ±30 % of the BEM on
-periodic realisations of the same spectrum, also on a map without a power-law band (x3p-2); the
-command on a line scan says why it skips it. Skipped where ../shared/data is absent."""
+files, on 128² (the command's default), at the BEM's own contact fractions, Persson's theory on the
+map's measured spectrum within ±30 % of the BEM on periodic realisations of the same spectrum from
+1.5 % contact, below it at 0.5 %; also on a map without a power-law band (x3p-2); the command on a
+line scan says why it skips it. Skipped where ../shared/data is absent."""
 
 import pathlib
 
@@ -24,14 +25,21 @@ def test_the_bem_and_persson_have_every_point(rows):
     assert [row["status"].split(";")[0].split(" ")[0] for row in rows if row["status"] != "ok"] in ([], ["gw"])
 
 
-def test_persson_on_the_measured_spectrum_is_within_30_percent_of_the_bem(rows):
-    ratios = np.array([row["persson_spectrum_over_bem"] for row in rows])
+def test_persson_on_the_measured_spectrum_is_within_30_percent_of_the_bem_from_1_5_percent(rows):
+    ratios = np.array([row["persson_spectrum_over_bem"] for row in rows])[1:]
     assert np.all((ratios > 0.7) & (ratios < 1.3)), ratios
 
 
-def test_the_bems_contact_spans_the_fractions_asked_for(rows):
+def test_at_half_a_percent_persson_is_below_the_bem(rows):
+    # A few spots carry the load there; their K grows slower than Persson's K ∝ F (0.62-0.72 on the
+    # six areal files, docs/validation.md).
+    assert 0.5 < rows[0]["persson_spectrum_over_bem"] < 0.8
+
+
+def test_the_bems_contact_is_at_the_fractions_asked_for(rows):
+    # The loads are interpolated on the first realisation; the column is the realisations' mean.
     fractions = np.array([row["contact_fraction_bem"] for row in rows])
-    assert fractions.min() < 0.015 and fractions.max() > 0.15
+    np.testing.assert_allclose(fractions, [0.005, 0.015, 0.05, 0.15], rtol=0.25)
 
 
 def test_the_command_says_why_it_skips_a_line_scan(tmp_path, capsys):
@@ -65,10 +73,8 @@ def without_band():
     return spectrum_validation(FILES / "x3p-2.x3p", grid=128, realisations=3)
 
 
-def test_on_a_map_without_a_power_law_band_persson_is_within_30_percent_of_the_bem(without_band):
-    # 0.73-1.09 measured with 3 realisations, 0.73-1.08 with 8. With 2, the BEM's 15 % spread between
-    # realisations at 1 % contact puts the first at 0.66.
-    ratios = np.array([row["persson_spectrum_over_bem"] for row in without_band])
+def test_on_a_map_without_a_power_law_band_persson_is_within_30_percent_of_the_bem_from_1_5_percent(without_band):
+    ratios = np.array([row["persson_spectrum_over_bem"] for row in without_band])[1:]
     assert np.all((ratios > 0.7) & (ratios < 1.3)), ratios
 
 

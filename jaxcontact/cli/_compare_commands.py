@@ -20,7 +20,11 @@ def cmd_compare(args) -> int:
         optional_import("ContactMechanics", "the boundary-element reference of jaxcontact compare")
 
     out = pathlib.Path(args.out)
-    if args.topography:
+    if args.topography and args.substrate is None:  # the joint's roughness: realisations of the map's spectrum
+        from ._compare_joint import compare_joint
+
+        return compare_joint(args, out, cache(args))
+    if args.topography:  # the map itself
         from ._compare_measured import compare_measured
 
         return compare_measured(args, out, cache(args), progress(args, "BEM"))

@@ -1,5 +1,6 @@
-"""`jaxcontact compare --topography FILE`: the BEM on a measured map beside the models on its
-characterised (D, G, l_min), and each model's own (D, G) fitted to the BEM curve."""
+"""`jaxcontact compare --topography FILE --substrate S`: the BEM on a measured map itself beside the
+models on its characterised (D, G, l_min), and each model's own (D, G) fitted to the BEM curve.
+Without `--substrate` the map is a sample of the joint's roughness (`_compare_joint`)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from ._output import CommandError, print_result
 MEASURED_FRACTIONS = (0.005, 0.02, 0.05, 0.12)
 
 
-def _fits(comparison, K_bem, ok):
+def fits_to_curve(comparison, K_bem, ok):
     """Each model's (D, G) fitted to the BEM curve, beside the characterised values."""
     from jaxcontact.fitting import fit
 
@@ -33,6 +34,31 @@ def _fits(comparison, K_bem, ok):
             {"model": label, "D_fit": D, "G_fit_wm_m": G, "loss": loss, "success": success, "warnings": warnings}
         )
     return rows
+
+
+def write_tables(out, rows, fits) -> list[str]:
+    """comparison.csv and, where there are fits, fits.csv in `out`: the paths written."""
+    from ._report import write_csv
+
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "comparison.csv")
+    if not fits:
+        return [str(out / "comparison.csv")]
+    write_csv(fits, out / "fits.csv")
+    return [str(out / "comparison.csv"), str(out / "fits.csv")]
+
+
+def fits_text(fits, c) -> str:
+    """The fits' lines (nothing where there are none), beside the surface's own D and G."""
+    if not fits:
+        return ""
+    fitted = "\n".join(
+        f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)"
+        + ("" if f["success"] and not f.get("warnings") else f"  [{f.get('warnings') or 'not converged'}]")
+        for f in fits
+    )
+    own = f"the surface's own: D = {c.D:.4f}, G = {c.G:.4g} m"
+    return f"\nD, G of each model fitted to the BEM curve ({own}):\n{fitted}\n"
 
 
 # Below this exponent of K ∝ F^α the BEM's K on a map is more a smooth body's than a rough one's: a
@@ -84,20 +110,12 @@ def compare_measured(args, out, cache, progress) -> int:
     from ..bem import SUBSTRATES, ReferenceCurves, bem_stiffness
     from ..studies._compare import Comparison, loads_for_fractions, model_curves
     from ..topography import mirrored
-    from ._report import write_csv
     from ._surface_commands import characterise_file
 
     topography, c = characterise_file(args)
     separation = topography.info["separation"]
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
-    if args.substrate is None and not topography.is_periodic:
-        raise CommandError(
-            f"{args.topography} is not periodic: choose --substrate free (an isolated half-space; its K measures "
-            "the map's own size), periodic (the map repeated; its edges meet as a step) or mirrored (the map and "
-            "its mirror images); `jaxcontact validate-spectrum FILE` solves the BEM on periodic realisations of "
-            "its measured spectrum instead"
-        )
     topography, coarsening = _on_grid(topography, args.grid)
     spec = compare_spec(args)
     lx, ly = topography.physical_sizes
@@ -112,7 +130,7 @@ def compare_measured(args, out, cache, progress) -> int:
         result = bem_stiffness(mirror, float(scene.material.E), 4 * loads, cache=cache, progress=progress)
         result = dataclasses.replace(result, loads=loads, stiffness=result.stiffness / 4)
     else:
-        substrate = None if args.substrate is None else SUBSTRATES[args.substrate]()
+        substrate = SUBSTRATES[args.substrate]()
         result = bem_stiffness(
             topography, float(scene.material.E), loads, substrate=substrate, cache=cache, progress=progress
         )
@@ -123,24 +141,10 @@ def compare_measured(args, out, cache, progress) -> int:
         raise CommandError("the BEM gave no valid point on this map (see comparison.csv's status)")
     rows = comparison.rows()
     notes = [note for note in [form_note(loads[reference.ok], result.stiffness[reference.ok])] if note]
-    fits = _fits(comparison, result.stiffness, reference.ok) if args.fit else []
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(rows, out / "comparison.csv")
-    files = [str(out / "comparison.csv")]
-    if fits:
-        write_csv(fits, out / "fits.csv")
-        files.append(str(out / "fits.csv"))
+    fits = fits_to_curve(comparison, result.stiffness, reference.ok) if args.fit else []
+    files = write_tables(out, rows, fits)
     title = f"{args.topography}: D = {c.D:.4f}, G = {c.G:.4g} m (W-M), l_min = {c.l_min:.4g} m"
     files.append(plot_comparison(comparison, title, out / "comparison.png"))
-    fitted = "\n".join(
-        f"  {f['model']:>16}: D = {f['D_fit']:.4f}, G = {f['G_fit_wm_m']:.4g} m (W-M)"
-        + (
-            ""
-            if f["success"] and not f.get("warnings")
-            else f"  [{f.get('warnings') or f.get('error') or 'not converged'}]"
-        )
-        for f in fits
-    )
     summary = (
         f"{title}\nK_model / K_BEM (BEM on the measured heights, {result.grid[0]} x {result.grid[1]}"
         + (f", coarsened {coarsening}x to --grid {args.grid}" if coarsening > 1 else "")
@@ -148,12 +152,7 @@ def compare_measured(args, out, cache, progress) -> int:
         + (FREE_WORDS if args.substrate == "free" else "")
         + f")\n{separation}\n"
         f"{comparison_table(rows, list(comparison.models))}\n"
-        + (
-            f"\nD, G of each model fitted to the BEM curve (the surface's own: D = {c.D:.4f}, "
-            f"G = {c.G:.4g} m):\n{fitted}\n"
-            if fits
-            else ""
-        )
+        + fits_text(fits, c)
         + "".join(f"{n}\n" for n in notes)
         + "\n".join(f"wrote {f}" for f in files)
     )

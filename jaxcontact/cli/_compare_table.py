@@ -103,9 +103,9 @@ def compare_spec(args):
 def _ratio_cell(row, label) -> str:
     from ..studies._compare import column_key
 
-    key = column_key(label)
+    key, width = column_key(label), max(15, len(label))
     status = row[f"status_{key}"]
-    return f"{row['ratio_' + key]:>15.3g}" if status == "ok" else f"{status[:15]:>15}"
+    return f"{row['ratio_' + key]:>{width}.3g}" if status == "ok" else f"{status[:width]:>{width}}"
 
 
 def comparison_table(rows, labels) -> str:
@@ -133,10 +133,13 @@ def plot_comparison(comparison, title, path) -> str:
     # 32 loads: the load-array bucket of the table's own loads, so the plot compiles nothing new.
     fine = np.geomspace(ref.loads.min(), ref.loads.max(), 32)
     fig, ax = subplots(figsize=(6.5, 4.6))
-    for label, (stiffness, _) in model_curves(comparison.scene, fine).items():
+    for label, (stiffness, _) in model_curves(comparison.scene, fine, comparison.compared).items():
         shown = np.isfinite(stiffness) & (stiffness > 0)
         note = "" if shown.all() else (" (flagged or K = 0 everywhere)" if not shown.any() else " (partly flagged)")
         ax.loglog(fine[shown] / unit_load, stiffness[shown] / unit_stiffness, "-", label=label + note)
+    for label, (stiffness, _) in comparison.models.items():
+        if label not in comparison.compared:  # a column of points (the map itself)
+            ax.loglog(F, stiffness / unit_stiffness, "s", mfc="none", label=label)
     mean = ref.mean / unit_stiffness
     ax.errorbar(
         F,

@@ -35,11 +35,14 @@ def column_key(label: str) -> str:
 @dataclasses.dataclass(frozen=True)
 class Comparison:
     """Models and the BEM reference at the same loads: `reference` (`bem.ReferenceCurves`),
-    `models` (label → (stiffness N/m, status)), `scene`."""
+    `models` (label → (stiffness N/m, status)), `scene`; `compared`, the models that a curve
+    re-solves (label → `Scene.with_model` options; a label of `models` not among them is a column
+    of points only)."""
 
     scene: object
     reference: object
     models: dict
+    compared: dict = dataclasses.field(default_factory=lambda: COMPARED)
 
     @property
     def loads(self):

@@ -5,10 +5,11 @@ it, and take its binned C2D over the band, cut where the BEM's grid stops resolv
 grid spacings of the map's side), as a `MeasuredSpectrum` rolled off below. A map without a
 power-law band has no power-law route (its columns NaN, its status says why); its table is then the
 whole binned spectrum, from the map's longest wavelength to the cut. The joint is the map's area.
-At loads where Persson's theory on that spectrum puts the contact at each of `fractions`:
+At loads where the BEM's own contact is at each of `fractions` (on the first realisation: ln F
+interpolated in ln A_r between loads where Persson's theory puts it there):
 
-- the BEM on `realisations` periodic realisations of the same spectrum (`BEM(spectrum=...)`): their
-  mean K, its spread and their contact fraction;
+- the BEM on `realisations` periodic realisations of the same spectrum (the surfaces of
+  `BEM(spectrum=...)`, solved by `bem.jax_curve`): their mean K, its spread and their contact fraction;
 - Persson and GW on the spectrum, Persson's 95 % band from the spectrum's own uncertainty
   (`topography.spectrum_band`), and Persson on the power-law route (the fitted D and G, l_min at the
   same cut) with its 95 % band from (D, G)'s covariance, each as a ratio to the BEM's mean;
@@ -19,6 +20,8 @@ At loads where Persson's theory on that spectrum puts the contact at each of `fr
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 import pathlib
 
@@ -34,7 +37,7 @@ class SpectrumSkipped(Exception):
 
 
 def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: float):
-    """K (N/m, NaN where not ok) of the mirrored map at `loads` on the joint's `area` (module
+    """K (N/m, NaN where not ok) and the status of the mirrored map at `loads` on the joint's `area` (module
     docstring). A map of oblong pixels is first cut to its largest square and mirrored, then
     Fourier-truncated along its finer axis to the coarser spacing: square pixels, each of the coarser
     spacing, holding every wavelength both axes resolve."""
@@ -56,7 +59,8 @@ def mirrored_map_stiffness(roughness, grid: int, modulus: float, loads, area: fl
     heights = np.real(np.fft.ifft2(np.fft.fft2(tiled)[np.ix_(*kept)])) * n * n / tiled.size
     # The same nominal pressure on the mirrored square (four times the square's area).
     solution = solve(heights, 2 * side, modulus, 4 * np.asarray(loads) * side**2 / area)
-    return np.where(np.asarray(solution.status) == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan)
+    status = np.asarray(solution.status)
+    return np.where(status == 0, np.asarray(solution.stiffness) / 4 * area / side**2, np.nan), status
 
 
 def _status(statuses: dict, i: int, missing: tuple[str, ...] = ()) -> str:
@@ -67,21 +71,113 @@ def _status(statuses: dict, i: int, missing: tuple[str, ...] = ()) -> str:
     return "; ".join(flagged + list(missing)) or "ok"
 
 
+@dataclasses.dataclass(frozen=True)
+class MeasuredJoint:
+    """A measured map as a sample of the joint's roughness (module docstring).
+
+    **Fields:** `scene` (the joint: the map's area and the material; the power-law route's D and G,
+    placeholders where `characterisation` is None, with `l_min` at the table's cut), `spectrum` (the
+    map's `MeasuredSpectrum`), `characterisation` (None for a map without a power-law band),
+    `reference` (`bem.ReferenceCurves`: the BEM on periodic realisations of the spectrum, at loads
+    where its first realisation's contact is at the fractions asked for), `mirrored` (K of the
+    mirrored map, N/m, NaN where not ok) and `mirrored_status`.
+    """
+
+    scene: object
+    spectrum: object
+    characterisation: object
+    reference: object
+    mirrored: np.ndarray
+    mirrored_status: np.ndarray
+
+    @property
+    def loads(self):
+        return self.reference.loads
+
+
+def _bem_loads(curve, topography, guess, fractions):
+    """Loads at which the BEM (`curve(topography, loads)`, a `bem.BEMResult`) puts the contact on
+    `topography` at `fractions`: ln F interpolated in ln A_r over its contact at the loads `guess`
+    (linear, extrapolated beyond them)."""
+    from scipy.interpolate import interp1d
+
+    probe = curve(topography, guess)
+    ok = (probe.status == 0) & (probe.contact_fraction > 0)
+    if ok.sum() < 2:
+        return np.asarray(guess)
+    log_fraction, log_load = np.log(probe.contact_fraction[ok]), np.log(np.asarray(guess)[ok])
+    order = np.argsort(log_fraction)
+    along = interp1d(log_fraction[order], log_load[order], fill_value="extrapolate", assume_sorted=True)
+    return np.exp(along(np.log(np.asarray(fractions))))
+
+
+def _jax_curve(topography, loads, modulus):
+    from ..bem import jax_curve
+
+    return jax_curve(topography, modulus, loads)
+
+
+def measured_joint(
+    roughness, characterisation, whole, material, *, grid: int, realisations: int, fractions, curve=None
+):
+    """The joint view of one map (`MeasuredJoint`).
+
+    **Arguments:** `roughness`, the map with its form removed (a SurfaceTopography topography);
+    `characterisation`, its power-law characterisation, or None with `whole`, the `NoBandError`'s
+    whole binned spectrum; `material`; `grid` and `realisations` of the BEM; the BEM's contact
+    `fractions` at which it is loaded; `curve(topography, loads)`, the BEM's `bem.BEMResult` on a
+    periodic map (default `bem.jax_curve` with `bem.BEMSettings()`).
+
+    **Raises:** `SpectrumSkipped` for a band the grid cannot hold.
+    """
+    from SurfaceTopography import Topography
+
+    from ..bem import BEM, ReferenceCurves
+    from ..core import Scene
+    from ..numerics import InputError
+    from ..physics import MeasuredSpectrum
+    from ..quantities import Surface
+    from ._compare import loads_for_fractions
+
+    c = characterisation
+    side = math.sqrt(float(np.prod(roughness.physical_sizes)))
+    cut = max(0.0 if c is None else c.band[0], PIXELS_PER_L_MIN * side / grid)
+    try:
+        spectrum = (
+            MeasuredSpectrum.from_binned(whole, shortest=cut)
+            if c is None
+            else MeasuredSpectrum.from_characterisation(c, shortest=cut)
+        )
+    except InputError as too_few:
+        raise SpectrumSkipped(f"{too_few}, the shortest wavelength the grid resolves") from None
+    # Without a power-law band the surface's D and G are placeholders: the models that solve on
+    # the table do not read them, and the power-law route is not taken.
+    surface = Surface(D=1.5, G=1e-12, l_min=cut) if c is None else Surface(D=c.D, G=c.G, l_min=cut)
+    scene = Scene(surface, material, side * side)
+    modulus = float(material.E)
+    if curve is None:
+        curve = functools.partial(_jax_curve, modulus=modulus)
+    heights = BEM(grid=grid, realisations=realisations, spectrum=spectrum).heights(scene)
+    surfaces = [Topography(np.asarray(h, dtype=float), (side, side), periodic=True) for h in heights]
+    guess = loads_for_fractions(scene, fractions, spectrum)
+    loads = _bem_loads(curve, surfaces[0], guess, fractions)
+    results = tuple(curve(s, loads) for s in surfaces)
+    reference = ReferenceCurves(results, tuple(range(realisations)), grid, None)
+    mirrored = mirrored_map_stiffness(roughness, grid, modulus, loads, side * side)
+    return MeasuredJoint(scene, spectrum, c, reference, *mirrored)
+
+
 def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractions=FRACTIONS, modulus=None):
     """Rows (one per fraction) of the validation of one file (module docstring).
 
-    **Arguments:** `path`, an areal topography file; `grid` and `realisations` of the BEM; the target
+    **Arguments:** `path`, an areal topography file; `grid` and `realisations` of the BEM; the BEM's
     contact `fractions`; `modulus`, E* in Pa (default two steel bodies, 210 GPa and ν = 0.3).
 
     **Raises:** `SpectrumSkipped` for a line scan, or a band the grid cannot hold.
     """
-    from ..bem import BEM
-    from ..bem._solver import REFERENCE_STEP
-    from ..core import Scene, solve
+    from ..core import solve
     from ..models import GreenwoodWilliamson, Persson
-    from ..numerics import InputError
-    from ..physics import MeasuredSpectrum
-    from ..quantities import Material, Surface
+    from ..quantities import Material
     from ..topography import (
         Curvature,
         NoBandError,
@@ -92,66 +188,41 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
         spectrum_band,
         stiffness_band,
     )
-    from ._compare import loads_for_fractions
 
     topography = read(path, fill_undefined=True)
     if topography.dim != 2:
         raise SpectrumSkipped("a line scan: the BEM needs an areal map")
     roughness = separate(topography, Curvature(), None).roughness
-    side = math.sqrt(float(np.prod(roughness.physical_sizes)))
     try:
-        c = characterise(roughness)
+        c, whole = characterise(roughness), None
     except NoBandError as none:  # no power-law route: the measured one alone, on the whole spectrum
-        c, no_band = None, none
-    cut = max(0.0 if c is None else c.band[0], PIXELS_PER_L_MIN * side / grid)
-    try:
-        spectrum = (
-            MeasuredSpectrum.from_binned(no_band.spectrum, shortest=cut)
-            if c is None
-            else MeasuredSpectrum.from_characterisation(c, shortest=cut)
-        )
-    except InputError as too_few:  # a band the grid cannot hold
-        raise SpectrumSkipped(f"{too_few}, the shortest wavelength the grid resolves") from None
+        c, whole = None, none.spectrum
     E = 210e9 / (1 - 0.3**2) if modulus is None else modulus
-    # Every model compared is elastic: the hardness is not used. Without a power-law band the
-    # surface's D and G are placeholders: every model then solves on the table.
-    surface = Surface(D=1.5, G=1e-12, l_min=cut) if c is None else Surface(D=c.D, G=c.G, l_min=cut)
-    scene = Scene(surface, Material(E=E, nu=0.3, H=3e9), side * side)
-    measured = scene.with_model(Persson(spectrum=spectrum))
-    loads = loads_for_fractions(scene, fractions, spectrum)
-    bem = [
-        solve(
-            scene.with_model(
-                BEM(grid=grid, realisations=1, seed=seed, spectrum=spectrum, relative_step=REFERENCE_STEP)
-            ),
-            loads,
-        )
-        for seed in range(realisations)
-    ]
-    K = np.array([np.asarray(b.stiffness) for b in bem])
-    area = np.array([np.asarray(b.real_area) for b in bem]) / (side * side)
+    # Every model compared is elastic: the hardness is not used.
+    joint = measured_joint(
+        roughness, c, whole, Material(E=E, nu=0.3, H=3e9), grid=grid, realisations=realisations, fractions=fractions
+    )
+    scene, spectrum, loads, ref = joint.scene, joint.spectrum, joint.loads, joint.reference
     # Persson on the measured spectrum, with its band from the spectrum's own uncertainty.
-    persson = spectrum_band(measured, loads)
+    persson = spectrum_band(scene.with_model(Persson(spectrum=spectrum)), loads)
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
     band = None if c is None else stiffness_band(c, scene.with_model(Persson()), loads)
-    mean = K.mean(axis=0)
-    mirrored = mirrored_map_stiffness(roughness, grid, E, loads, side * side)
-    name = pathlib.Path(path).name
-    statuses = {"bem": np.max([np.asarray(b.status) for b in bem], axis=0), "persson": persson.status, "gw": gw.status}
+    mean = ref.mean
+    statuses = {"bem": np.max([r.status for r in ref.results], axis=0), "persson": persson.status, "gw": gw.status}
     if band is None:
         nan = np.full_like(mean, np.nan)
         band = StiffnessBand(loads, nan, nan, nan, np.zeros(len(loads), int))
     statuses["power_law"] = band.status
     return [
         {
-            "file": name,
+            "file": pathlib.Path(path).name,
             "D": math.nan if c is None else c.D,
-            "l_min_m": cut,
+            "l_min_m": float(scene.surface.l_min),
             "load_N": float(loads[i]),
-            "contact_fraction_bem": float(area[:, i].mean()),
+            "contact_fraction_bem": float(ref.contact_fraction[i]),
             "K_bem_N_per_m": float(mean[i]),
-            "K_bem_spread": float(K[:, i].std() / mean[i]),
-            "map_bem_over_bem": float(mirrored[i] / mean[i]),
+            "K_bem_spread": float(ref.stiffness[:, i].std() / mean[i]),
+            "map_bem_over_bem": float(joint.mirrored[i] / mean[i]),
             "persson_spectrum_over_bem": float(persson.stiffness[i] / mean[i]),
             "spectrum_band_low_over_bem": float(persson.lower[i] / mean[i]),
             "spectrum_band_high_over_bem": float(persson.upper[i] / mean[i]),
