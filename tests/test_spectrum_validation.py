@@ -31,8 +31,8 @@ def test_persson_on_the_measured_spectrum_is_within_30_percent_of_the_bem_from_1
 
 
 def test_at_half_a_percent_persson_is_below_the_bem(rows):
-    # A few spots carry the load there; their K grows slower than Persson's K ∝ F (0.62-0.72 on the
-    # six areal files, docs/validation.md).
+    # Persson's theory is softer than the BEM at low contact: 0.62-0.72 on the six areal files, and
+    # the same on a joint of twice and four times the map's side (docs/validation.md).
     assert 0.5 < rows[0]["persson_spectrum_over_bem"] < 0.8
 
 
