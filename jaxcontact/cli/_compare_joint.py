@@ -46,7 +46,7 @@ def compare_joint(args, out, cache) -> int:
     from ..models import GreenwoodWilliamson, Persson
     from ..studies._compare import COMPARED, Comparison, model_curves
     from ..studies._spectrum_validation import FRACTIONS, SpectrumSkipped, measured_joint
-    from ._compare_measured import fits_text, fits_to_curve, form_note, write_tables
+    from ._compare_measured import exponent, fits_text, fits_to_curve, form_note, write_tables
 
     if args.realisations < 1:
         raise CommandError(f"--realisations {args.realisations} must be at least 1")
@@ -74,7 +74,8 @@ def compare_joint(args, out, cache) -> int:
         raise CommandError("the BEM gave no valid point on the realisations (see comparison.csv's status)")
     rows = comparison.rows()
     shown = np.isfinite(joint.mirrored)
-    notes = [note for note in [form_note(joint.loads[shown], joint.mirrored[shown])] if note]
+    rough = exponent(joint.loads[ref.ok], ref.mean[ref.ok]) if ref.ok.sum() > 1 else None
+    notes = [note for note in [form_note(joint.loads[shown], joint.mirrored[shown], rough)] if note]
     # The power-law models' own D and G fitted to the realisations' mean curve.
     fits = fits_to_curve(comparison, ref.mean, ref.ok) if args.fit and c is not None else []
     files = write_tables(out, rows, fits)

@@ -67,6 +67,8 @@ def fits_text(fits, c) -> str:
 # with their curvature removed; 0.52 on metropro-1 with its form left in, 0.71 with its tilt alone
 # removed, 0.67 on a synthetic map on a paraboloid 20 times its rms high (docs/validation.md).
 HERTZ_LIKE = 0.75
+# A rough surface's exponent over those fractions, which `HERTZ_LIKE` sits 15 % below.
+ROUGH = 0.875
 
 
 def _on_grid(topography, grid):
@@ -79,20 +81,30 @@ def _on_grid(topography, grid):
     return topography, factor
 
 
-def form_note(loads, stiffness) -> str | None:
-    """A line when the BEM's K on the map grows as F^α with α < `HERTZ_LIKE` (least squares in log-log
-    over its valid points): nearer a smooth body's law than a rough one's."""
+def exponent(loads, stiffness) -> float:
+    """α of K ∝ F^α, least squares in log-log."""
     import numpy as np
 
+    return float(np.polyfit(np.log(loads), np.log(stiffness), 1)[0])
+
+
+def form_note(loads, stiffness, rough: float | None = None) -> str | None:
+    """A line when the BEM's K on the map grows as F^α with α < `HERTZ_LIKE` (over its valid points),
+    or, given `rough` (α of the same roughness without form: realisations of the map's spectrum at
+    the same loads), with α < `HERTZ_LIKE` / `ROUGH` times it: nearer a smooth body's law than a
+    rough one's."""
     if len(loads) < 2:
         return None
-    alpha = float(np.polyfit(np.log(loads), np.log(stiffness), 1)[0])
-    if alpha >= HERTZ_LIKE:
+    alpha = exponent(loads, stiffness)
+    if alpha >= (HERTZ_LIKE if rough is None else HERTZ_LIKE / ROUGH * rough):
         return None
+    than = "a rough surface's (about F^0.85-1.2 at these contact fractions)"
+    if rough is not None:
+        than = f"the BEM's on realisations of its spectrum (F^{rough:.2f})"
     return (
-        f"note: K_BEM ∝ F^{alpha:.2f} on this map, nearer a smooth body's law (Hertz: F^0.33) than a rough "
-        "surface's (about F^0.85-1.2 at these contact fractions): the map's form or waviness carries the load; "
-        "remove more of it (--form polynomial --form-degree N, --waviness-cutoff LAMBDA)"
+        f"note: K_BEM ∝ F^{alpha:.2f} on this map, nearer a smooth body's law (Hertz: F^0.33) than {than}: the "
+        "map's form or waviness carries the load; remove more of it (--form polynomial --form-degree N, "
+        "--waviness-cutoff LAMBDA)"
     )
 
 

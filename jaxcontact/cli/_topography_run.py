@@ -183,7 +183,7 @@ def form_check(roughness, scene, spectrum) -> str:
     below 0.75 (`form_note`) the line says so and what to remove."""
     from ..studies._compare import loads_for_fractions
     from ..studies._spectrum_validation import FRACTIONS, mirrored_map_stiffness
-    from ._compare_measured import form_note
+    from ._compare_measured import exponent, form_note
 
     if roughness.dim != 2:
         return "form check: none for a line scan (the BEM needs an areal map)"
@@ -192,7 +192,7 @@ def form_check(roughness, scene, spectrum) -> str:
     ok = np.isfinite(K) & (K > 0)
     if ok.sum() < 2:
         return "form check: the BEM on the map gave fewer than two values"
-    alpha = float(np.polyfit(np.log(loads[ok]), np.log(K[ok]), 1)[0])
+    alpha = exponent(loads[ok], K[ok])
     return form_note(loads[ok], K[ok]) or (
         f"form check: the BEM on the map itself (mirrored, {2 * FORM_CHECK_GRID}²) grows as K ∝ F^{alpha:.2f} at "
         "0.5-15 % contact, as a rough surface does"
