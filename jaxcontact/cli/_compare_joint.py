@@ -44,6 +44,7 @@ def compare_joint(args, out, cache) -> int:
     import numpy as np
 
     from ..models import GreenwoodWilliamson, Persson
+    from ..quantities import status_message
     from ..studies._compare import COMPARED, Comparison, model_curves
     from ..studies._spectrum_validation import FRACTIONS, SpectrumSkipped, measured_joint
     from ._compare_measured import exponent, fits_text, fits_to_curve, form_note, write_tables
@@ -71,7 +72,10 @@ def compare_joint(args, out, cache) -> int:
     models = model_curves(joint.scene, joint.loads, compared) | {MIRRORED: (joint.mirrored, joint.mirrored_status)}
     comparison = Comparison(joint.scene, ref, models, compared)
     if not ref.ok.any():
-        raise CommandError("the BEM gave no valid point on the realisations (see comparison.csv's status)")
+        flagged = sorted({status_message(int(x)) for r in ref.results for x in r.status if x != 0})
+        raise CommandError(
+            f"the BEM gave no valid point on the realisations of the map's spectrum: {', '.join(flagged)}"
+        )
     rows = comparison.rows()
     shown = np.isfinite(joint.mirrored)
     rough = exponent(joint.loads[ref.ok], ref.mean[ref.ok]) if ref.ok.sum() > 1 else None
@@ -88,21 +92,21 @@ def compare_joint(args, out, cache) -> int:
     )
     files.append(plot_comparison(comparison, title, out / "comparison.png"))
     spread = ref.stiffness.std(axis=0) / ref.mean
+    separation = topography.info["separation"]
     header = (
         f"K_model / K_BEM (the BEM on {len(ref.seeds)} periodic realisations of the map's measured spectrum, "
         f"{ref.grid}², their spread {np.nanmin(spread):.0%}-{np.nanmax(spread):.0%}, at loads of its own contact "
         f"fractions; the joint the map's area)\n{', '.join(ON_THE_SPECTRUM)}: on the measured spectrum; "
         + ("" if c is None else "the others: on the power law (D, G, l_min); ")
-        + f"{MIRRORED}: the BEM on the map itself and its mirror images, {2 * args.grid}²"
+        + f"{MIRRORED}: the BEM on the map itself and its mirror images (at most {2 * args.grid}²)"
     )
     summary = (
-        f"{title}\n{header}\n{topography.info['separation']}\n"
+        f"{title}\n{header}\n{separation}\n"
         f"{comparison_table(rows, list(comparison.models))}\n"
         + fits_text(fits, c)
         + "".join(f"{n}\n" for n in notes)
         + "\n".join(f"wrote {f}" for f in files)
     )
-    payload = {"title": title, "separation": topography.info["separation"], "notes": notes, "rows": rows}
-    payload["fits"] = fits
-    print_result(payload | {"files": files}, args.format, summary)
+    payload = {"title": title, "separation": separation, "notes": notes, "rows": rows, "fits": fits, "files": files}
+    print_result(payload, args.format, summary)
     return 0
