@@ -32,12 +32,13 @@ def _characterised(args):
 
 
 def _curve(args, cache, modulus):
-    """`curve(topography, loads)`: the BEM the options name on a periodic map."""
-    from ..bem import bem_stiffness, jax_curve
+    """`curve(topography, loads)` on a periodic map for `--reference contactmechanics`; None for
+    `measured_joint`'s default, the JAX solve."""
+    from ..bem import bem_stiffness
 
-    if args.reference == "contactmechanics":
-        return lambda topography, loads: bem_stiffness(topography, modulus, loads, cache=cache)
-    return lambda topography, loads: jax_curve(topography, modulus, loads)
+    if args.reference != "contactmechanics":
+        return None
+    return lambda topography, loads: bem_stiffness(topography, modulus, loads, cache=cache)
 
 
 def compare_joint(args, out, cache) -> int:
@@ -67,15 +68,15 @@ def compare_joint(args, out, cache) -> int:
     except SpectrumSkipped as reason:
         raise CommandError(f"{args.topography}: {reason}") from None
     spectrum, ref = joint.spectrum, joint.reference
-    on_spectrum = dict(zip(ON_THE_SPECTRUM, (Persson(spectrum=spectrum), GreenwoodWilliamson(spectrum=spectrum))))
-    compared = {label: dict(model=model) for label, model in on_spectrum.items()} | (COMPARED if c else {})
-    models = model_curves(joint.scene, joint.loads, compared) | {MIRRORED: (joint.mirrored, joint.mirrored_status)}
-    comparison = Comparison(joint.scene, ref, models, compared)
     if not ref.ok.any():
         flagged = sorted({status_message(int(x)) for r in ref.results for x in r.status if x != 0})
         raise CommandError(
             f"the BEM gave no valid point on the realisations of the map's spectrum: {', '.join(flagged)}"
         )
+    on_spectrum = dict(zip(ON_THE_SPECTRUM, (Persson(spectrum=spectrum), GreenwoodWilliamson(spectrum=spectrum))))
+    compared = {label: dict(model=model) for label, model in on_spectrum.items()} | (COMPARED if c else {})
+    models = model_curves(joint.scene, joint.loads, compared) | {MIRRORED: (joint.mirrored, joint.mirrored_status)}
+    comparison = Comparison(joint.scene, ref, models, compared)
     rows = comparison.rows()
     shown = np.isfinite(joint.mirrored)
     rough = exponent(joint.loads[ref.ok], ref.mean[ref.ok]) if ref.ok.sum() > 1 else None
