@@ -136,11 +136,12 @@ def test_the_gradients_in_hardness_and_radius_are_central_differences():
         moved = eqx.tree_at(lambda s: (s.material.H, s.model.radius), scene, (H, radius))
         return jc.solve(moved, 3.0).stiffness
 
-    x0 = (jnp.asarray(HARDNESS), jnp.asarray(R))
+    # Strongly typed float64 throughout: a weakly typed argument (`jnp.asarray(1.0)`) is another program.
+    x0 = (jnp.asarray(HARDNESS, float), jnp.asarray(R, float))
     grad = K(*x0)[1]
     for i, h in enumerate((1e-6 * HARDNESS, 1e-6 * R)):
         step = [jnp.zeros(()), jnp.zeros(())]
-        step[i] = jnp.asarray(h)
+        step[i] = jnp.asarray(h, float)
         up, down = K(*(x + s for x, s in zip(x0, step)))[0], K(*(x - s for x, s in zip(x0, step)))[0]
         np.testing.assert_allclose(grad[i], (up - down) / (2 * h), rtol=1e-5)
 
