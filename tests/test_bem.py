@@ -74,6 +74,15 @@ def test_the_iteration_cap_gives_not_converged():
     assert np.isnan(result.stiffness[0])
 
 
+def test_a_solve_leaves_nothing_in_contactmechanicss_default_logger():
+    # Its default logger (one object for the process) would keep a line per iteration of every solve.
+    from ContactMechanics.Tools.Logger import quiet
+
+    before = len(quiet.buffer)
+    bem.bem_stiffness(bem.realisation(1.5, 1e-12, L / 8, L, 32, 0), E, [1e-3 * UNIT_LOAD])
+    assert len(quiet.buffer) == before
+
+
 def test_full_contact_is_out_of_range():
     surface = bem.realisation(1.5, 1e-12, L / 16, L, 64, 0)
     result = bem.bem_stiffness(surface, E, [1e-1 * UNIT_LOAD])

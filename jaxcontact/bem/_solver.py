@@ -89,8 +89,23 @@ def _substrate(topography, substrate: AbstractSubstrate | None) -> AbstractSubst
     return substrate
 
 
+class _Unlogged:
+    """A logger for ContactMechanics's solver that keeps nothing. Its default (`Logger(None)`, one
+    object for the process) keeps every line it is given in memory, and finds each message's caller
+    by walking the whole call stack (`inspect.stack`, which reads every frame's source file)."""
+
+    def pr(self, *args, **kwargs) -> None:
+        pass
+
+    def st(self, *args, **kwargs) -> None:
+        pass
+
+
+UNLOGGED = _Unlogged()
+
+
 def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
-    options = dict(pentol=pentol, forcetol=1e-12 * load, maxiter=settings.max_iterations)
+    options = dict(pentol=pentol, forcetol=1e-12 * load, maxiter=settings.max_iterations, logger=UNLOGGED)
     centre = system.minimize_proxy(external_force=load, **options)
     iterations = int(centre.nit)
     # Counted over the surface's own grid: a free half-space's force array is the padded one.
