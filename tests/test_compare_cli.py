@@ -209,3 +209,16 @@ def test_the_fits_table_of_maps_without_a_power_law_band_says_so():
     row |= dict(G_ratio=1.0, G_covered=True, success=True, on_bound=False, describes_data=True, seconds=1.0)
     lines = bem_fit_table([row | nan | {"G_surface_covered": False}]).splitlines()
     assert [line.split()[1:4] for line in lines[1:]] == [["surface", "alone", "–"], ["bem", "no", "1.490"]]
+
+
+def test_the_table_prints_each_status_whole():
+    """A point without a valid value shows its status in full, the column as wide as it needs."""
+    from jaxcontact.cli._compare_table import comparison_table
+
+    row = dict(F_star=1e-5, contact_fraction_bem=0.015, K_star_bem=0.3)
+    rows = [
+        row | dict(ratio_xia2024_paper=float("nan"), status_xia2024_paper="interaction_breakdown"),
+        row | dict(ratio_xia2024_paper=1.25, status_xia2024_paper="ok"),
+    ]
+    lines = comparison_table(rows, ["xia2024 paper"]).splitlines()
+    assert [line.split()[-1] for line in lines] == ["paper", "interaction_breakdown", "1.25"]

@@ -100,19 +100,27 @@ def compare_spec(args):
     return load_scene(args.scene)
 
 
-def _ratio_cell(row, label) -> str:
+def comparison_table(rows, labels) -> str:
+    """The ratios K_model / K_BEM, one column per label; a point without a valid value shows its
+    status, whole (a column is as wide as its longest status)."""
     from ..studies._compare import column_key
 
-    key, width = column_key(label), max(15, len(label))
-    status = row[f"status_{key}"]
-    return f"{row['ratio_' + key]:>{width}.3g}" if status == "ok" else f"{status[:width]:>{width}}"
+    keys = [column_key(label) for label in labels]
+    widths = [
+        max(15, len(label), *(len(row[f"status_{key}"]) for row in rows if row[f"status_{key}"] != "ok"))
+        for label, key in zip(labels, keys)
+    ]
 
+    def cell(row, key, width):
+        status = row[f"status_{key}"]
+        return f"{row['ratio_' + key]:>{width}.3g}" if status == "ok" else f"{status:>{width}}"
 
-def comparison_table(rows, labels) -> str:
-    head = f"{'F*':>10} {'A_r/A_a':>8} {'K*_BEM':>10} " + " ".join(f"{label:>15}" for label in labels)
+    head = f"{'F*':>10} {'A_r/A_a':>8} {'K*_BEM':>10} " + " ".join(
+        f"{label:>{width}}" for label, width in zip(labels, widths)
+    )
     lines = [head]
     for row in rows:
-        cells = " ".join(_ratio_cell(row, label) for label in labels)
+        cells = " ".join(cell(row, key, width) for key, width in zip(keys, widths))
         lines.append(f"{row['F_star']:>10.3g} {row['contact_fraction_bem']:>8.3%} {row['K_star_bem']:>10.4g} {cells}")
     return "\n".join(lines)
 
