@@ -101,11 +101,11 @@ class _Unlogged:
         pass
 
 
-UNLOGGED = _Unlogged()
+_UNLOGGED = _Unlogged()
 
 
 def _one_load(system, topography, load, pentol: float, settings: BEMSettings):
-    options = dict(pentol=pentol, forcetol=1e-12 * load, maxiter=settings.max_iterations, logger=UNLOGGED)
+    options = dict(pentol=pentol, forcetol=1e-12 * load, maxiter=settings.max_iterations, logger=_UNLOGGED)
     centre = system.minimize_proxy(external_force=load, **options)
     iterations = int(centre.nit)
     # Counted over the surface's own grid: a free half-space's force array is the padded one.
