@@ -16,19 +16,14 @@ MIRRORED = "mirrored map"
 ON_THE_SPECTRUM = ("persson spectrum", "gw spectrum")
 
 
-def _characterised(args):
-    """The map (its form removed as the options say), its characterisation, and without a power-law
-    band None and the map's whole binned spectrum."""
-    from ..topography import NoBandError, characterise
+def _roughness(args):
+    """The map, its form removed as the options say."""
     from ._surface_commands import read_file
 
     topography = read_file(args, args.topography)
     if topography.dim != 2:
         raise CommandError(f"{args.topography} is a line scan: the BEM needs an areal map")
-    try:
-        return topography, characterise(topography, band=args.band, groups=args.groups), None
-    except NoBandError as none:
-        return topography, None, none.spectrum
+    return topography
 
 
 def _curve(args, cache, modulus):
@@ -52,22 +47,22 @@ def compare_joint(args, out, cache) -> int:
 
     if args.realisations < 1:
         raise CommandError(f"--realisations {args.realisations} must be at least 1")
-    topography, c, whole = _characterised(args)
+    topography = _roughness(args)
     material = compare_spec(args).scene.material
     try:
         joint = measured_joint(
             topography,
-            c,
-            whole,
             material,
             grid=args.grid,
             realisations=args.realisations,
             fractions=FRACTIONS,
             curve=_curve(args, cache, float(material.E)),
+            band=args.band,
+            groups=args.groups,
         )
     except SpectrumSkipped as reason:
         raise CommandError(f"{args.topography}: {reason}") from None
-    spectrum, ref = joint.spectrum, joint.reference
+    spectrum, ref, c = joint.spectrum, joint.reference, joint.characterisation
     if not ref.ok.any():
         flagged = sorted({status_message(int(x)) for r in ref.results for x in r.status if x != 0})
         raise CommandError(

@@ -117,16 +117,15 @@ def _jax_curve(topography, loads, modulus):
     return jax_curve(topography, modulus, loads)
 
 
-def measured_joint(
-    roughness, characterisation, whole, material, *, grid: int, realisations: int, fractions, curve=None
-):
+def measured_joint(roughness, material, *, grid: int, realisations: int, fractions, curve=None, band=None, groups=None):
     """The joint view of one map (`MeasuredJoint`).
 
-    **Arguments:** `roughness`, the map with its form removed (a SurfaceTopography topography);
-    `characterisation`, its power-law characterisation, or None with `whole`, the `NoBandError`'s
-    whole binned spectrum; `material`; `grid` and `realisations` of the BEM; the BEM's contact
-    `fractions` at which it is loaded; `curve(topography, loads)`, the BEM's `bem.BEMResult` on a
-    periodic map (default `bem.jax_curve` with `bem.BEMSettings()`).
+    **Arguments:** `roughness`, the areal map with its form removed (a SurfaceTopography topography);
+    `material`; `grid` and `realisations` of the BEM; the BEM's contact `fractions` at which it is
+    loaded; `curve(topography, loads)`, the BEM's `bem.BEMResult` on a periodic map (default
+    `bem.jax_curve` with `bem.BEMSettings()`); `band` and `groups`, as `topography.characterise`
+    takes them. A map without a power-law band has no characterisation, and its table is its whole
+    binned spectrum.
 
     **Raises:** `SpectrumSkipped` for a band the grid cannot hold.
     """
@@ -137,9 +136,13 @@ def measured_joint(
     from ..numerics import InputError
     from ..physics import MeasuredSpectrum
     from ..quantities import Surface
+    from ..topography import NoBandError, characterise
     from ._compare import loads_for_fractions
 
-    c = characterisation
+    try:
+        c, whole = characterise(roughness, band=band, groups=groups), None
+    except NoBandError as none:  # no power-law route: the measured one alone, on the whole spectrum
+        c, whole = None, none.spectrum
     side = math.sqrt(float(np.prod(roughness.physical_sizes)))
     cut = max(0.0 if c is None else c.band[0], PIXELS_PER_L_MIN * side / grid)
     try:
@@ -178,31 +181,18 @@ def spectrum_validation(path, *, grid: int = 128, realisations: int = 3, fractio
     from ..core import solve
     from ..models import GreenwoodWilliamson, Persson
     from ..quantities import Material
-    from ..topography import (
-        Curvature,
-        NoBandError,
-        StiffnessBand,
-        characterise,
-        read,
-        separate,
-        spectrum_band,
-        stiffness_band,
-    )
+    from ..topography import Curvature, StiffnessBand, read, separate, spectrum_band, stiffness_band
 
     topography = read(path, fill_undefined=True)
     if topography.dim != 2:
         raise SpectrumSkipped("a line scan: the BEM needs an areal map")
     roughness = separate(topography, Curvature(), None).roughness
-    try:
-        c, whole = characterise(roughness), None
-    except NoBandError as none:  # no power-law route: the measured one alone, on the whole spectrum
-        c, whole = None, none.spectrum
     E = 210e9 / (1 - 0.3**2) if modulus is None else modulus
     # Every model compared is elastic: the hardness is not used.
     joint = measured_joint(
-        roughness, c, whole, Material(E=E, nu=0.3, H=3e9), grid=grid, realisations=realisations, fractions=fractions
+        roughness, Material(E=E, nu=0.3, H=3e9), grid=grid, realisations=realisations, fractions=fractions
     )
-    scene, spectrum, loads, ref = joint.scene, joint.spectrum, joint.loads, joint.reference
+    scene, spectrum, loads, ref, c = joint.scene, joint.spectrum, joint.loads, joint.reference, joint.characterisation
     # Persson on the measured spectrum, with its band from the spectrum's own uncertainty.
     persson = spectrum_band(scene.with_model(Persson(spectrum=spectrum)), loads)
     gw = solve(scene.with_model(GreenwoodWilliamson(spectrum=spectrum)), loads)
